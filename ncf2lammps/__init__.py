@@ -1,0 +1,29 @@
+"""ncf2lammps: digital-chain models of stitched non-crimp fabrics, run on LAMMPS.
+
+Public surface for generate-and-run scripts::
+
+    import ncf2lammps as n2l
+    spec = n2l.load_spec("runs/hpt310-coarse/spec.toml")
+    spec = spec.replace(discretisation={"chain_diameter_um": 150.0})
+    model = n2l.build_model(spec)
+    n2l.build(spec, "out/d150")          # model.data, spec.resolved.toml, decks/
+"""
+
+__version__ = "0.1.0"
+
+from .model import Model, build_model
+from .numerics import time_step
+from .scenes import build
+from .spec import FabricSpec, SpecError, load_spec, spec_from_dict
+
+__all__ = [
+    "FabricSpec",
+    "Model",
+    "SpecError",
+    "__version__",
+    "build",
+    "build_model",
+    "load_spec",
+    "spec_from_dict",
+    "time_step",
+]

@@ -1,0 +1,129 @@
+"""Command line: ``ncf2lammps check|build ...``; thin, it parses and calls the package.
+
+Exit codes: 0 success; 2 bad input (one line naming the field and the allowed range);
+1 a failed run (with a diagnosis).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from . import __version__, units
+from .engine import EngineError
+from .model import build_model
+from .numerics import STABLE_FRACTION, contact_law, time_step
+from .scenes.build import SCENES, OutputExistsError, build
+from .scenes.run import run
+from .spec import SpecError, load_spec
+
+
+def _check(args) -> int:
+    spec = load_spec(args.spec)
+    model = build_model(spec)
+    step = time_step(spec, model)
+    law = contact_law(spec, model)
+    lx, ly, _ = model.box.lengths
+    lines = [
+        f"spec          {args.spec}: {spec.name}",
+        f"cell          {lx / 1e3:.4g} x {ly / 1e3:.4g} mm (x machine/0 deg, y 90 deg), periodic in x, y",
+        f"beads         {model.n_atoms} atoms, {model.n_bonds} bonds",
+    ]
+    for t in model.atom_types:
+        chains, beads = model.count(t.name)
+        lines.append(f"  {t.name:<14}{chains:>6} chains {beads:>9} beads  d = {t.diameter:.4g} um")
+    fibre_aw = model.areal_weight("fibre")
+    lines += [
+        f"areal weight  fibre {fibre_aw:.4g} g/m2, stitch {model.areal_weight('stitch'):.4g} g/m2",
+        f"mat           thickness {model.mat_thickness / 1e3:.4g} mm at Vf {spec.mat.initial_fvf:g}",
+    ]
+    if len(model.needle_points):
+        lines.append(
+            f"needles       {len(model.needle_points)} per cell, diameter {model.needle_diameter:.4g} um,"
+            f" lapping {spec.stitch.notation}"
+        )
+    for bond_type in model.bond_types:
+        lines.append(
+            f"  bond {bond_type.name:<20} K = {bond_type.k:.4g} nN/um  r0 = {bond_type.r0:.5g} um"
+            f"  EA = {units.from_micro(bond_type.axial_stiffness, 'N'):.4g} N"
+        )
+    mass = model.mass
+    lines += [
+        f"bead mass     {mass.min():.4g} .. {mass.max():.4g} pg (mass scaling {spec.numerics.mass_scaling:g})",
+        f"contact       {law.model}: k_n = {units.from_micro(law.stiffness, 'N_m'):.4g} N/m, mu = {law.friction:g}",
+        "stability     sqrt(m/k) per limit (us):",
+    ]
+    for name, limit in sorted(step.limits.items(), key=lambda kv: kv[1]):
+        lines.append(f"  {name:<28} {limit:.4g}")
+    lines += [
+        f"time step     dt = {step.dt:.4g} us = {step.fraction:g} x {step.critical:.4g} us ({step.governing})",
+        f"margin        {step.margin:.3g} (stable up to {STABLE_FRACTION} sqrt(m/k); > 1 is safe)",
+    ]
+    print("\n".join(lines))
+    return 0
+
+
+def _build(args) -> int:
+    spec = load_spec(args.spec)
+    result = build(spec, args.output, force=args.force)
+    print(
+        f"wrote {result.directory}: model.data ({result.model.n_atoms} atoms, "
+        f"{result.model.n_bonds} bonds), spec.resolved.toml, decks/"
+        + ", decks/".join(p.name for p in result.decks.values())
+    )
+    return 0
+
+
+def _run(args) -> int:
+    spec = load_spec(args.spec)
+    results = run(spec, args.output, scenes=args.scene, force=args.force)
+    print(f"wrote {results}")
+    return 0
+
+
+def parser() -> argparse.ArgumentParser:
+    """The argument parser (one sub-command per verb)."""
+    top = argparse.ArgumentParser(
+        prog="ncf2lammps",
+        description="Digital-chain models of stitched non-crimp fabrics on LAMMPS.",
+    )
+    top.add_argument("--version", action="version", version=f"ncf2lammps {__version__}")
+    verbs = top.add_subparsers(dest="verb", required=True, metavar="VERB")
+    check = verbs.add_parser(
+        "check", help="validate a spec; print sizes, stiffnesses and the time step"
+    )
+    check.add_argument("spec", help="spec TOML file")
+    check.set_defaults(func=_check)
+    build_cmd = verbs.add_parser(
+        "build", help="write model.data, spec.resolved.toml and decks into a folder"
+    )
+    build_cmd.add_argument("spec", help="spec TOML file")
+    build_cmd.add_argument("-o", "--output", required=True, help="output folder (new or empty)")
+    build_cmd.add_argument("--force", action="store_true", help="replace a non-empty folder")
+    build_cmd.set_defaults(func=_build)
+    run_cmd = verbs.add_parser("run", help="build, then run scenes in order; write results.h5")
+    run_cmd.add_argument("spec", help="spec TOML file")
+    run_cmd.add_argument("-o", "--output", required=True, help="output folder (new or empty)")
+    run_cmd.add_argument(
+        "--scene", action="append", choices=SCENES, help="scene to run (repeat; default: all)"
+    )
+    run_cmd.add_argument("--force", action="store_true", help="replace a non-empty folder")
+    run_cmd.set_defaults(func=_run)
+    return top
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``ncf2lammps`` console script."""
+    args = parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except (SpecError, OutputExistsError) as err:
+        print(f"ncf2lammps: error: {err}", file=sys.stderr)
+        return 2
+    except EngineError as err:
+        print(f"ncf2lammps: run failed: {err}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,16 @@
+"""Pure-numpy geometry: mat chains, stitch yarn paths, curve-to-bead sampling."""
+
+from .chains import BeadChain, sample_closed_polyline
+from .mat import PlyLayout, ply_chains, ply_layout
+from .stitch import SEGMENT_KINDS, StitchPath, stitch_path
+
+__all__ = [
+    "SEGMENT_KINDS",
+    "BeadChain",
+    "PlyLayout",
+    "StitchPath",
+    "ply_chains",
+    "ply_layout",
+    "sample_closed_polyline",
+    "stitch_path",
+]

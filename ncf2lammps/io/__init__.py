@@ -1,0 +1,1 @@
+"""File formats: LAMMPS data files, rendered decks, resolved specs, results."""

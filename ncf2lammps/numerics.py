@@ -1,0 +1,120 @@
+"""Time step and stability limits derived from the model's stiffnesses and masses.
+
+Velocity Verlet on a spring of stiffness ``k`` between beads of mass ``m`` is stable for
+``dt < sqrt(m / k)`` in a chain (highest mode ``2 sqrt(k/m)``). Measured here (DESIGN 8): a pulled
+chain stayed stable up to 1.0 sqrt(m/k), two crossing plies up to 0.8; so the stable fraction is
+:data:`STABLE_FRACTION` and the default is ``dt_fraction = 0.5`` of the smallest limit, where
+``k`` covers every bond type (``k = EA / r0 = 2 K``) and the contact law at its expected overlap.
+Mass scaling by ``f`` multiplies every limit by ``sqrt(f)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import units
+from .model import Model
+from .spec import FabricSpec, SpecError
+
+__all__ = ["STABLE_FRACTION", "ContactLaw", "TimeStep", "contact_law", "time_step"]
+
+#: Largest dt / sqrt(m/k) measured stable for crossing plies (DESIGN 8).
+STABLE_FRACTION = 0.8
+
+#: Overlap (fraction of the smaller diameter) at which a Hertz contact's stiffness is evaluated.
+HERTZ_REFERENCE_OVERLAP = 0.05
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """Contact parameters in LAMMPS units for ``pair_style granular``.
+
+    Attributes: ``model`` ("hooke"/"hertz"); ``normal`` = k_n (nN/um, hooke) or E* scale
+    (kPa, hertz/material: the Young's modulus given to LAMMPS); ``stiffness`` = the normal
+    stiffness at the reference overlap (nN/um); ``damping`` = eta_n for ``damping
+    mass_velocity`` (1/us); ``tangential`` = k_t (nN/um); ``friction`` = mu.
+    """
+
+    model: str
+    normal: float
+    stiffness: float
+    damping: float
+    tangential: float
+    friction: float
+
+
+def contact_law(spec: FabricSpec, model: Model) -> ContactLaw:
+    """The contact law of ``spec`` evaluated for the lightest and smallest beads of ``model``."""
+    contact = spec.contact
+    d_min = float(model.diameter.min())
+    mass = model.mass * spec.numerics.mass_scaling
+    m_eff = float(mass.min()) / 2.0
+    if contact.normal_model == "hooke":
+        normal = units.to_micro(contact.normal_stiffness_N_m, "N_m")
+        stiffness = normal
+    else:
+        normal = units.to_micro(contact.contact_modulus_GPa, "GPa")
+        e_star = normal / 2.0  # two equal bodies, Poisson ratio neglected
+        r_star = d_min / 4.0
+        overlap = HERTZ_REFERENCE_OVERLAP * d_min
+        stiffness = 2.0 * e_star * np.sqrt(r_star * overlap)
+    damping = 2.0 * contact.damping_ratio * np.sqrt(stiffness / m_eff)
+    return ContactLaw(
+        model=contact.normal_model,
+        normal=float(normal),
+        stiffness=float(stiffness),
+        damping=float(damping),
+        tangential=float(contact.tangential_stiffness_ratio * stiffness),
+        friction=float(contact.friction),
+    )
+
+
+@dataclass(frozen=True)
+class TimeStep:
+    """Stability limits and the chosen step (us).
+
+    Attributes:
+        limits: {name: sqrt(m/k)} for each bond type and for contacts (us).
+        governing: the name of the smallest limit.
+        critical: the smallest limit sqrt(m/k) (us).
+        dt: chosen time step (us).
+        fraction: dt / critical.
+        margin: STABLE_FRACTION / fraction (> 1 is inside the measured stable range).
+    """
+
+    limits: dict[str, float]
+    governing: str
+    critical: float
+    dt: float
+    fraction: float
+    margin: float
+
+
+def time_step(spec: FabricSpec, model: Model) -> TimeStep:
+    """Critical and chosen time step; refuses a fraction above the stable one unless allowed."""
+    mass = model.mass * spec.numerics.mass_scaling
+    limits: dict[str, float] = {}
+    for index, bond_type in enumerate(model.bond_types):
+        in_type = model.bond_type == index
+        if not np.any(in_type):
+            continue
+        m_min = float(mass[model.bonds[in_type].ravel()].min())
+        limits[f"bond {bond_type.name}"] = float(np.sqrt(m_min / (2.0 * bond_type.k)))
+    law = contact_law(spec, model)
+    limits["contact"] = float(np.sqrt(float(mass.min()) / law.stiffness))
+    governing = min(limits, key=limits.get)
+    critical = limits[governing]
+    fraction = spec.numerics.dt_fraction
+    if fraction > STABLE_FRACTION and not spec.numerics.allow_unstable_dt:
+        raise SpecError(
+            "numerics.dt_fraction",
+            fraction,
+            f"above the stable {STABLE_FRACTION} sqrt(m/k) (dt {fraction * critical:.4g} us >"
+            f" {STABLE_FRACTION * critical:.4g} us, {governing}); set"
+            " numerics.allow_unstable_dt = true to run anyway",
+        )
+    return TimeStep(
+        limits, governing, critical, fraction * critical, fraction, STABLE_FRACTION / fraction
+    )

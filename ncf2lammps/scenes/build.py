@@ -1,0 +1,98 @@
+"""Build a run folder: model.data, spec.resolved.toml and the decks, written atomically.
+
+The folder is first written as ``<DIR>.partial-<pid>`` and renamed into place at the end, so an
+interrupted build never leaves a folder that looks complete.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+from .. import __version__
+from ..io.datafile import write_data
+from ..io.deck import render
+from ..io.spectoml import write_spec
+from ..model import Model, build_model
+from ..numerics import ContactLaw, TimeStep, contact_law, time_step
+from ..spec import FabricSpec
+
+__all__ = ["SCENES", "Build", "OutputExistsError", "build", "deck_context", "prepare_output"]
+
+#: Scenes with a deck, in the order ``run`` executes them.
+SCENES = ("verify",)
+
+
+class OutputExistsError(FileExistsError):
+    """The output folder exists and is not empty."""
+
+
+@dataclass(frozen=True)
+class Build:
+    """What :func:`build` wrote: the folder, the model, its time step and contact law."""
+
+    directory: Path
+    model: Model
+    time_step: TimeStep
+    contact: ContactLaw
+    decks: dict[str, Path]
+
+
+def neighbor_skin(spec: FabricSpec, model: Model) -> float:
+    """Neighbour skin (um): the spec's, else d/10 of the largest bead and at least 1 um."""
+    if spec.numerics.neighbor_skin_um is not None:
+        return spec.numerics.neighbor_skin_um
+    return max(1.0, 0.1 * float(model.diameter.max()))
+
+
+def deck_context(spec: FabricSpec, model: Model, scene: str, data_file: str = "model.data") -> dict:
+    """The typed values every deck is rendered from (see templates/base.lmp.j2)."""
+    step = time_step(spec, model)
+    skin = neighbor_skin(spec, model)
+    longest_bond = max(t.r0 for t in model.bond_types)
+    return {
+        "version": __version__,
+        "scene": scene,
+        "data_file": data_file,
+        "contact": contact_law(spec, model),
+        "dt": step.dt,
+        "skin": skin,
+        "comm_cutoff": float(model.diameter.max()) + skin + 1.5 * longest_bond,
+        "thermo_every": spec.numerics.thermo_every,
+    }
+
+
+def prepare_output(directory: str | os.PathLike, force: bool = False) -> tuple[Path, Path]:
+    """(final, partial) paths; refuses an existing non-empty folder unless ``force``."""
+    final = Path(directory)
+    if final.exists() and (not final.is_dir() or any(final.iterdir())) and not force:
+        raise OutputExistsError(f"{final}: exists and is not empty (choose another -o or --force)")
+    partial = final.with_name(f"{final.name}.partial-{os.getpid()}")
+    shutil.rmtree(partial, ignore_errors=True)
+    partial.mkdir(parents=True)
+    return final, partial
+
+
+def build(spec: FabricSpec, directory: str | os.PathLike, force: bool = False) -> Build:
+    """Write model.data, spec.resolved.toml and decks/in.<scene>.lmp into ``directory``."""
+    model = build_model(spec)
+    step = time_step(spec, model)
+    final, partial = prepare_output(directory, force)
+    try:
+        write_data(partial / "model.data", model)
+        write_spec(partial / "spec.resolved.toml", spec)
+        (partial / "decks").mkdir()
+        decks = {}
+        for scene in SCENES:
+            text = render(f"{scene}.lmp.j2", **deck_context(spec, model, scene, "model.data"))
+            (partial / "decks" / f"in.{scene}.lmp").write_text(text)
+            decks[scene] = final / "decks" / f"in.{scene}.lmp"
+        if final.exists():
+            shutil.rmtree(final)
+        partial.rename(final)
+    except BaseException:
+        shutil.rmtree(partial, ignore_errors=True)
+        raise
+    return Build(final, model, step, contact_law(spec, model), decks)

@@ -1,0 +1,434 @@
+"""Fabric and model specification: frozen dataclasses read from a TOML file and validated.
+
+A spec describes one fabric (plies, stitch) and its digital-chain model (discretisation, initial
+mat, contact, numerics) in engineering units named in the keys. Every field is checked once, here:
+a bad value raises :class:`SpecError` naming the field, the value and the allowed range. Unknown
+keys are errors. Defaults cite their source in :data:`FIELD_DOCS` (printed by ``check``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+import tomllib
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "PATTERNS",
+    "CellSpec",
+    "CompactionSpec",
+    "ContactSpec",
+    "DiscretisationSpec",
+    "FabricSpec",
+    "ManufactureSpec",
+    "MatSpec",
+    "NumericsSpec",
+    "PlySpec",
+    "ShearSpec",
+    "SpecError",
+    "StitchSpec",
+    "load_spec",
+    "parse_lapping",
+    "spec_from_dict",
+]
+
+
+class SpecError(ValueError):
+    """A spec value outside its allowed range; ``str()`` is one line naming field and range."""
+
+    def __init__(self, field_path: str, value: Any, why: str):
+        self.field = field_path
+        self.value = value
+        self.why = why
+        super().__init__(f"{field_path} = {value!r}: {why}")
+
+
+#: Lapping notation of the named stitch patterns (guide-bar gap positions, one overlap per course).
+#: See docs/stitch.md for the convention and the choice of the tricot-chain sequence.
+PATTERNS: dict[str, str] = {
+    "chain": "0-1/1-0",
+    "pillar": "0-1/1-0",
+    "tricot": "1-0/1-2",
+    "tricot-chain": "1-0/0-1/1-2/2-1",
+}
+
+_LAP = re.compile(r"^\s*(\d+)\s*-\s*(\d+)\s*$")
+
+
+def parse_lapping(notation: str, field_path: str = "stitch.lapping") -> tuple[tuple[int, int], ...]:
+    """Parse warp-knitting lapping notation ``"1-0/1-2"`` into overlaps ``((1, 0), (1, 2))``.
+
+    Each course is ``a-b``: the guide swings across one needle from gap ``a`` to gap ``b``
+    (``|a - b| == 1``). Raises :class:`SpecError` on anything else.
+    """
+    courses = notation.split("/")
+    overlaps = []
+    for course in courses:
+        match = _LAP.match(course)
+        if match is None:
+            raise SpecError(field_path, notation, "courses must read 'a-b' separated by '/'")
+        a, b = int(match.group(1)), int(match.group(2))
+        if abs(a - b) != 1:
+            raise SpecError(
+                field_path, notation, f"overlap '{course.strip()}' must span one needle (|a-b| = 1)"
+            )
+        overlaps.append((a, b))
+    if not 1 <= len(overlaps) <= 64:
+        raise SpecError(field_path, notation, "needs 1 to 64 courses")
+    return tuple(overlaps)
+
+
+def _f(
+    default, lo=None, hi=None, *, lo_open=False, hi_open=False, unit="", source="", choices=None
+):
+    """Dataclass field with its allowed range, unit and the source of its default."""
+    meta = {
+        "lo": lo,
+        "hi": hi,
+        "lo_open": lo_open,
+        "hi_open": hi_open,
+        "unit": unit,
+        "source": source,
+        "choices": choices,
+    }
+    return field(default=default, metadata=meta)
+
+
+@dataclass(frozen=True)
+class PlySpec:
+    """One unidirectional ply of straight fibre chains (0 deg along x, 90 deg along y)."""
+
+    angle_deg: float = _f(0.0, choices=(0.0, 90.0), unit="deg", source="0/90 biaxial NCF")
+    areal_weight_g_m2: float = _f(
+        150.0, 0.0, 5000.0, lo_open=True, unit="g/m2", source="HPT 310 datasheet-typical 2 x 150"
+    )
+    density_g_cm3: float = _f(1.80, 0.0, 25.0, lo_open=True, unit="g/cm3", source="carbon, paper")
+    E_GPa: float = _f(240.0, 0.0, 2000.0, lo_open=True, unit="GPa", source="carbon HT, typical")
+
+
+@dataclass(frozen=True)
+class StitchSpec:
+    """The stitch yarn: lapping, machine gauge and stitch length, yarn material."""
+
+    pattern: str = _f("tricot-chain", choices=(*PATTERNS, "custom"), source="paper")
+    lapping: str = _f("", source="empty: the pattern's notation (docs/stitch.md)")
+    gauge_mm: float = _f(5.08, 0.5, 50.0, unit="mm", source="paper (E5)")
+    stitch_length_mm: float = _f(2.8, 0.2, 20.0, unit="mm", source="paper")
+    linear_density_dtex: float = _f(76.0, 1.0, 10000.0, unit="dtex", source="PES, typical NCF")
+    density_g_cm3: float = _f(1.38, 0.5, 5.0, unit="g/cm3", source="PES")
+    E_GPa: float = _f(12.0, 0.01, 500.0, unit="GPa", source="PES yarn 10-15 GPa, typical")
+    diameter_um: float | None = _f(
+        None, 1.0, 2000.0, unit="um", source="None: solid-equivalent from dtex and density"
+    )
+    needle_diameter_mm: float = _f(
+        1.0, 0.01, 10.0, unit="mm", source="E5 stitch-bonding compound needle, estimate"
+    )
+
+    @property
+    def overlaps(self) -> tuple[tuple[int, int], ...]:
+        """Overlaps ``(a, b)`` of one repeat, parsed from :attr:`notation`."""
+        return parse_lapping(self.notation)
+
+    @property
+    def notation(self) -> str:
+        """The lapping notation in force: :attr:`lapping` if given, else the pattern's."""
+        return self.lapping or PATTERNS[self.pattern]
+
+
+@dataclass(frozen=True)
+class CellSpec:
+    """Periodic cell size; with a stitch it defaults to the stitch repeat."""
+
+    length_mm: float | None = _f(None, 0.05, 500.0, unit="mm", source="None: stitch repeat")
+    width_mm: float | None = _f(None, 0.05, 500.0, unit="mm", source="None: stitch gauge")
+
+
+@dataclass(frozen=True)
+class DiscretisationSpec:
+    """Chain diameter (before the volume-conserving correction per ply) and bead spacing."""
+
+    chain_diameter_um: float = _f(69.0, 1.0, 5000.0, unit="um", source="paper reference model")
+    bead_spacing_ratio: float = _f(0.5, 0.2, 1.0, unit="s/d", source="DESIGN 5: roughness 0.134 R")
+
+
+@dataclass(frozen=True)
+class MatSpec:
+    """The homogeneous fibrous mat before stitching."""
+
+    initial_fvf: float = _f(0.30, 0.0, 0.785, lo_open=True, unit="-", source="paper, eq. (1)")
+
+
+@dataclass(frozen=True)
+class ContactSpec:
+    """Chain-chain contact: Coulomb friction and the normal law (``pair_style granular``)."""
+
+    friction: float = _f(0.30, 0.0, 2.0, unit="-", source="paper")
+    normal_model: str = _f("hooke", choices=("hooke", "hertz"), source="model choice")
+    normal_stiffness_N_m: float = _f(
+        1.0e5, 1.0, 1.0e9, unit="N/m", source="overlap < 1 % of d at 0.1 N (hooke)"
+    )
+    contact_modulus_GPa: float = _f(
+        1.0, 1e-4, 500.0, unit="GPa", source="transverse bundle modulus, model choice (hertz)"
+    )
+    damping_ratio: float = _f(0.3, 0.0, 1.0, unit="-", source="fraction of critical, per contact")
+    tangential_stiffness_ratio: float = _f(
+        2.0 / 7.0, 0.01, 1.0, unit="kt/kn", source="LAMMPS gran/hooke/history default 2/7"
+    )
+
+
+@dataclass(frozen=True)
+class NumericsSpec:
+    """Time step, mass scaling and neighbour settings shared by every scene."""
+
+    dt_fraction: float = _f(0.5, 0.0, 2.0, lo_open=True, unit="sqrt(m/k)", source="DESIGN 8")
+    allow_unstable_dt: bool = _f(False, source="refuse dt above the stability limit")
+    mass_scaling: float = _f(1.0, 1.0, 1e12, unit="-", source="none")
+    neighbor_skin_um: float | None = _f(None, 0.01, 1e4, unit="um", source="None: d/10, >= 1 um")
+    thermo_every: int = _f(1000, 1, 10**9, unit="steps", source="output cadence")
+
+
+@dataclass(frozen=True)
+class ManufactureSpec:
+    """Manufacture scene: needle step, stitch insertion, pretension ramp, relaxation."""
+
+    needle_speed_m_s: float = _f(1.0, 1e-4, 100.0, unit="m/s", source="quasi-static, DESIGN 8")
+    stitch_tension_N: float = _f(0.10, 0.0, 50.0, unit="N", source="docs/manufacture.md")
+    pretension_time_us: float = _f(2000.0, 1.0, 1e9, unit="us", source="quasi-static ramp")
+    kinetic_ratio_target: float = _f(1e-3, 1e-9, 0.5, unit="-", source="DESIGN 8: < 1 %")
+    max_relax_steps: int = _f(2_000_000, 0, 10**10, unit="steps", source="safety cap")
+    insertion_overlap_tolerance: float = _f(
+        0.05, 0.0, 0.5, unit="d", source="largest stitch-fibre overlap at insertion"
+    )
+
+
+@dataclass(frozen=True)
+class CompactionSpec:
+    """Compaction scene: plates closing at a constant speed down to a final Vf."""
+
+    final_fvf: float = _f(0.67, 0.05, 0.9, unit="-", source="paper Fig. 5c")
+    plate_speed_m_s: float | None = _f(
+        None, 1e-6, 100.0, unit="m/s", source="None: from kinetic_ratio_target"
+    )
+    kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="DESIGN 8: < 1 %")
+
+
+@dataclass(frozen=True)
+class ShearSpec:
+    """Picture-frame shear scene by tilting the periodic box."""
+
+    final_angle_deg: float = _f(45.0, 1.0, 60.0, unit="deg", source="paper Fig. 6")
+    shear_rate_deg_us: float | None = _f(
+        None, 1e-9, 1.0, unit="deg/us", source="None: from kinetic_ratio_target"
+    )
+    kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="DESIGN 8: < 1 %")
+
+
+_TABLES: dict[str, type] = {
+    "stitch": StitchSpec,
+    "cell": CellSpec,
+    "discretisation": DiscretisationSpec,
+    "mat": MatSpec,
+    "contact": ContactSpec,
+    "numerics": NumericsSpec,
+    "manufacture": ManufactureSpec,
+    "compaction": CompactionSpec,
+    "shear": ShearSpec,
+}
+
+
+@dataclass(frozen=True)
+class FabricSpec:
+    """A fabric and its model. Build with :func:`load_spec` or :func:`spec_from_dict`."""
+
+    name: str
+    plies: tuple[PlySpec, ...]
+    stitch: StitchSpec | None
+    cell: CellSpec = CellSpec()
+    discretisation: DiscretisationSpec = DiscretisationSpec()
+    mat: MatSpec = MatSpec()
+    contact: ContactSpec = ContactSpec()
+    numerics: NumericsSpec = NumericsSpec()
+    manufacture: ManufactureSpec = ManufactureSpec()
+    compaction: CompactionSpec = CompactionSpec()
+    shear: ShearSpec = ShearSpec()
+
+    @property
+    def cell_mm(self) -> tuple[float, float]:
+        """Cell length (x, machine direction) and width (y) in mm."""
+        length, width = self.cell.length_mm, self.cell.width_mm
+        if self.stitch is not None:
+            repeat_x = len(self.stitch.overlaps) * self.stitch.stitch_length_mm
+            repeat_y = self.stitch.gauge_mm
+            length = repeat_x if length is None else length
+            width = repeat_y if width is None else width
+        return float(length), float(width)
+
+    def replace(self, **changes) -> FabricSpec:
+        """A copy with some top-level tables replaced, validated again.
+
+        ``spec.replace(discretisation={"chain_diameter_um": 120})`` merges dicts into tables.
+        """
+        data = self.to_dict()
+        for key, value in changes.items():
+            if isinstance(value, dict) and isinstance(data.get(key), dict):
+                data[key] = {**data[key], **value}
+            else:
+                data[key] = value
+        return spec_from_dict(data)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dict (TOML layout) of every field, with ``None`` values left out."""
+        out: dict[str, Any] = {"fabric": {"name": self.name}}
+        out["ply"] = [_table_dict(p) for p in self.plies]
+        if self.stitch is not None:
+            out["stitch"] = _table_dict(self.stitch)
+        for key in _TABLES:
+            if key != "stitch":
+                out[key] = _table_dict(getattr(self, key))
+        return out
+
+
+def _table_dict(obj) -> dict[str, Any]:
+    return {f.name: getattr(obj, f.name) for f in fields(obj) if getattr(obj, f.name) is not None}
+
+
+def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
+    meta = f.metadata
+    default = f.default
+    if value is None:
+        if default is None:
+            return None
+        raise SpecError(path, value, "must be given")
+    if isinstance(default, bool):
+        if not isinstance(value, bool):
+            raise SpecError(path, value, "must be true or false")
+        return value
+    if isinstance(default, str):
+        if not isinstance(value, str):
+            raise SpecError(path, value, "must be a string")
+        if meta["choices"] and value not in meta["choices"]:
+            raise SpecError(path, value, f"must be one of {', '.join(meta['choices'])}")
+        if len(value) > 200:
+            raise SpecError(path, value, "must be at most 200 characters")
+        return value
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise SpecError(path, value, f"must be a number{_range_text(meta)}")
+    if isinstance(default, int) and not isinstance(value, int):
+        if not float(value).is_integer():
+            raise SpecError(path, value, f"must be a whole number{_range_text(meta)}")
+    number = int(value) if isinstance(default, int) else float(value)
+    if not math.isfinite(number):
+        raise SpecError(path, value, f"must be finite{_range_text(meta)}")
+    if meta["choices"] is not None:
+        if number not in meta["choices"]:
+            allowed = " or ".join(f"{c:g}" for c in meta["choices"])
+            raise SpecError(path, value, f"must be {allowed} {meta['unit']}".rstrip())
+        return number
+    lo, hi = meta["lo"], meta["hi"]
+    too_low = lo is not None and (number <= lo if meta["lo_open"] else number < lo)
+    too_high = hi is not None and (number >= hi if meta["hi_open"] else number > hi)
+    if too_low or too_high:
+        raise SpecError(path, value, f"out of range: allowed{_range_text(meta)}")
+    return number
+
+
+def _range_text(meta) -> str:
+    lo, hi = meta["lo"], meta["hi"]
+    if lo is None and hi is None:
+        return ""
+    left = "(" if meta["lo_open"] else "["
+    right = ")" if meta["hi_open"] else "]"
+    unit = f" {meta['unit']}" if meta["unit"] else ""
+    return f" {left}{lo:g}, {hi:g}{right}{unit}"
+
+
+def _build(cls: type, table: Any, path: str):
+    if not isinstance(table, dict):
+        raise SpecError(path, table, "must be a table")
+    known = {f.name: f for f in fields(cls)}
+    for key in table:
+        if key not in known:
+            raise SpecError(f"{path}.{key}", table[key], f"unknown key (known: {', '.join(known)})")
+    values = {}
+    for name, f in known.items():
+        if name in table:
+            values[name] = _check_value(f"{path}.{name}", f, table[name])
+    return cls(**values)
+
+
+def spec_from_dict(data: dict[str, Any]) -> FabricSpec:
+    """Validate a TOML-layout dict and build a :class:`FabricSpec` (raises :class:`SpecError`)."""
+    if not isinstance(data, dict):
+        raise SpecError("<spec>", type(data).__name__, "must be a TOML table")
+    allowed = {"fabric", "ply", *_TABLES}
+    for key in data:
+        if key not in allowed:
+            raise SpecError(key, "...", f"unknown table (known: {', '.join(sorted(allowed))})")
+    fabric = data.get("fabric", {})
+    if not isinstance(fabric, dict) or set(fabric) - {"name"}:
+        raise SpecError("fabric", fabric, "must be a table with only the key 'name'")
+    name = fabric.get("name", "fabric")
+    if not isinstance(name, str) or not 0 < len(name) <= 200:
+        raise SpecError("fabric.name", name, "must be a string of 1 to 200 characters")
+    plies_data = data.get("ply")
+    if not isinstance(plies_data, list) or not 1 <= len(plies_data) <= 8:
+        raise SpecError("ply", plies_data, "needs 1 to 8 [[ply]] tables")
+    plies = tuple(_build(PlySpec, p, f"ply[{i}]") for i, p in enumerate(plies_data))
+    tables = {k: _build(cls, data[k], k) for k, cls in _TABLES.items() if k in data}
+    stitch = tables.pop("stitch", None)
+    spec = FabricSpec(name=name, plies=plies, stitch=stitch, **tables)
+    _check_consistency(spec)
+    return spec
+
+
+def _check_consistency(spec: FabricSpec) -> None:
+    """Checks across fields that a single range cannot express."""
+    stitch = spec.stitch
+    if stitch is not None:
+        if stitch.pattern == "custom" and not stitch.lapping:
+            raise SpecError("stitch.lapping", "", "must be given when stitch.pattern = 'custom'")
+        if stitch.lapping and stitch.pattern != "custom":
+            raise SpecError(
+                "stitch.lapping", stitch.lapping, "is only read with stitch.pattern = 'custom'"
+            )
+        stitch.overlaps  # noqa: B018 - parses and validates the notation
+        repeat = (len(stitch.overlaps) * stitch.stitch_length_mm, stitch.gauge_mm)
+        for key, size, unit_len in zip(
+            ("cell.length_mm", "cell.width_mm"),
+            (spec.cell.length_mm, spec.cell.width_mm),
+            repeat,
+            strict=True,
+        ):
+            if size is not None and abs(size / unit_len - round(size / unit_len)) > 1e-6:
+                raise SpecError(
+                    key, size, f"must be a whole multiple of the repeat {unit_len:g} mm"
+                )
+            if size is not None and round(size / unit_len) < 1:
+                raise SpecError(key, size, f"must be at least the repeat {unit_len:g} mm")
+    elif spec.cell.length_mm is None or spec.cell.width_mm is None:
+        raise SpecError("cell", "missing", "length_mm and width_mm are required without [stitch]")
+    length, width = spec.cell_mm
+    d_mm = spec.discretisation.chain_diameter_um * 1e-3
+    if min(length, width) < 2.0 * d_mm:
+        raise SpecError(
+            "discretisation.chain_diameter_um",
+            spec.discretisation.chain_diameter_um,
+            f"must be at most half the cell edge ({min(length, width) * 500:g} um)",
+        )
+
+
+def load_spec(path: str | Path) -> FabricSpec:
+    """Read and validate a spec TOML file (raises :class:`SpecError`, one line, on bad input)."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as err:
+        raise SpecError("<file>", str(path), f"cannot be read ({err.strerror})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise SpecError("<file>", str(path), f"is not valid TOML ({err})") from None
+    return spec_from_dict(data)

@@ -1,0 +1,54 @@
+"""Shared fixtures: the committed cases and small factory specs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from MDAnalysis.lib.distances import self_capped_distance
+
+from ncf2lammps import load_spec, spec_from_dict
+
+ROOT = Path(__file__).resolve().parent.parent
+CASES = ("hpt310", "hpt310-coarse", "mat-only")
+
+
+def case_spec(name: str):
+    """The committed spec of ``runs/<name>``."""
+    return load_spec(ROOT / "runs" / name / "spec.toml")
+
+
+def tiny_spec(**tables):
+    """A small stitched 0/90 cell (chains 250 um, one stitch repeat) with table overrides."""
+    data = {
+        "fabric": {"name": "tiny"},
+        "ply": [{"angle_deg": 90.0}, {"angle_deg": 0.0}],
+        "stitch": {"pattern": "tricot-chain", "needle_diameter_mm": 0.8},
+        "discretisation": {"chain_diameter_um": 250.0},
+    }
+    for key, value in tables.items():
+        if value is None:
+            data.pop(key, None)
+        elif isinstance(value, dict) and isinstance(data.get(key), dict):
+            data[key] = {**data[key], **value}
+        else:
+            data[key] = value
+    return spec_from_dict(data)
+
+
+def closest_pairs(positions: np.ndarray, box_lengths: np.ndarray, cutoff: float):
+    """Pairs (i, j) and distances of beads closer than ``cutoff``, periodic in x and y only."""
+    shifted = positions - positions.min(axis=0) * np.array([0, 0, 1])
+    lz = 10.0 * (np.ptp(positions[:, 2]) + cutoff + 1.0)
+    box = np.array([box_lengths[0], box_lengths[1], lz, 90.0, 90.0, 90.0], dtype=np.float32)
+    pairs, distances = self_capped_distance(shifted.astype(np.float64), cutoff, box=box)
+    return pairs, distances
+
+
+@pytest.fixture(scope="session")
+def case_models():
+    """{case: (spec, model)} of the three committed cases, built once."""
+    from ncf2lammps import build_model
+
+    return {name: (case_spec(name), build_model(case_spec(name))) for name in CASES}

@@ -1,0 +1,73 @@
+"""The command line: output, exit codes, one-line errors, no silent overwrite."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+from conftest import ROOT
+
+COARSE = str(ROOT / "runs" / "hpt310-coarse" / "spec.toml")
+
+
+def cli(*args, cwd=None):
+    return subprocess.run(
+        [sys.executable, "-m", "ncf2lammps.cli", *args], capture_output=True, text=True, cwd=cwd
+    )
+
+
+def test_check_prints_sizes_and_time_step():
+    out = cli("check", COARSE)
+    assert out.returncode == 0, out.stderr
+    for words in (
+        "cell          11.2 x 5.08 mm",
+        "atoms",
+        "areal weight  fibre 300",
+        "time step",
+        "margin",
+    ):
+        assert words in out.stdout
+
+
+@pytest.mark.parametrize(
+    ("text", "field"),
+    [
+        ("[[ply]]\nangle_deg = 30\n[cell]\nlength_mm = 2\nwidth_mm = 2\n", "ply[0].angle_deg"),
+        (
+            "[[ply]]\n[cell]\nlength_mm = 2\nwidth_mm = 2\n[mat]\ninitial_fvf = 0.9\n",
+            "mat.initial_fvf",
+        ),
+        (
+            "[[ply]]\n[cell]\nlength_mm = 2\nwidth_mm = 2\n[numerics]\ndt_fraction = 1.5\n",
+            "numerics.dt_fraction",
+        ),
+        ("[[ply]\n", "<file>"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(tmp_path, text, field):
+    spec = tmp_path / "spec.toml"
+    spec.write_text(text)
+    for verb in (["check", str(spec)], ["build", str(spec), "-o", str(tmp_path / "out")]):
+        out = cli(*verb)
+        assert out.returncode == 2
+        assert out.stderr.count("\n") == 1 and field in out.stderr, out.stderr
+        assert "Traceback" not in out.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_build_writes_folder_and_refuses_to_overwrite(tmp_path):
+    out = cli("build", COARSE, "-o", str(tmp_path / "run"))
+    assert out.returncode == 0, out.stderr
+    for name in ("model.data", "spec.resolved.toml", "decks/in.verify.lmp"):
+        assert (tmp_path / "run" / name).is_file()
+    again = cli("build", COARSE, "-o", str(tmp_path / "run"))
+    assert again.returncode == 2 and "not empty" in again.stderr
+    forced = cli("build", COARSE, "-o", str(tmp_path / "run"), "--force")
+    assert forced.returncode == 0
+    assert not list(tmp_path.glob("run.partial-*"))
+
+
+def test_every_verb_has_help():
+    for verb in ("check", "build"):
+        assert cli(verb, "--help").returncode == 0

@@ -1,0 +1,156 @@
+"""Invariants of the generated mat and stitch (DESIGN 5, issue 2)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import closest_pairs, tiny_spec
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from ncf2lammps import build_model
+from ncf2lammps.spec import SpecError
+
+
+def bond_lengths(model):
+    """Minimum-image bond lengths (um)."""
+    delta = model.positions[model.bonds[:, 1]] - model.positions[model.bonds[:, 0]]
+    lengths = model.box.lengths
+    delta[:, :2] -= np.rint(delta[:, :2] / lengths[:2]) * lengths[:2]
+    return np.linalg.norm(delta, axis=1)
+
+
+def assert_invariants(spec, model):
+    """The generation invariants every valid spec must satisfy."""
+    # Fibre areal weight equals the spec's (volume-conserving chain diameter): 1e-9 relative.
+    expected = sum(p.areal_weight_g_m2 for p in spec.plies)
+    assert model.areal_weight("fibre") == pytest.approx(expected, rel=1e-9)
+    # Vf of the mat at its thickness equals the initial Vf.
+    assert model.fvf(model.mat_thickness) == pytest.approx(spec.mat.initial_fvf, rel=1e-9)
+    # Every bond starts exactly at its rest length (chains close across the boundary).
+    r0 = np.array([t.r0 for t in model.bond_types])[model.bond_type]
+    np.testing.assert_allclose(bond_lengths(model), r0, rtol=1e-9)
+    # Every bead has exactly two bonds: closed chains, no loose ends.
+    assert np.array_equal(
+        np.bincount(model.bonds.ravel(), minlength=model.n_atoms), np.full(model.n_atoms, 2)
+    )
+    # Mass per length is the cylinder's: rho pi d^2 / 4 per um of chain.
+    fibre = model.role_mask("fibre")
+    for index, t in enumerate(model.atom_types):
+        if t.role != "fibre":
+            continue
+        in_type = model.type_id == index
+        chain_length = model.count(t.name)[0] * (
+            model.box.lengths[0] if t.name.endswith("_0deg") else model.box.lengths[1]
+        )
+        assert model.mass[in_type].sum() == pytest.approx(
+            t.density * np.pi * t.diameter**2 / 4 * chain_length, rel=1e-9
+        )
+    # No two beads of different chains closer than 0.99 d (periodic images included).
+    d_max = float(model.diameter.max())
+    pairs, distances = closest_pairs(model.positions, model.box.lengths, d_max)
+    different = model.mol_id[pairs[:, 0]] != model.mol_id[pairs[:, 1]]
+    both_fibre = fibre[pairs[:, 0]] & fibre[pairs[:, 1]]
+    contact = 0.5 * (model.diameter[pairs[:, 0]] + model.diameter[pairs[:, 1]])
+    keep = different & both_fibre
+    assert np.all(distances[keep] >= 0.99 * contact[keep])
+
+
+def test_hpt310_paper_cell(case_models):
+    spec, model = case_models["hpt310"]
+    np.testing.assert_allclose(model.box.lengths[:2], [11200.0, 5080.0])
+    assert model.areal_weight("fibre") == pytest.approx(300.0, rel=0.01)
+    assert model.mat_thickness == pytest.approx(300.0 / (0.3 * 1.8), rel=1e-9)  # 555.6 um
+    assert len(model.needle_points) == 4
+    assert_invariants(spec, model)
+
+
+@pytest.mark.parametrize("case", ["hpt310-coarse", "mat-only"])
+def test_cases_invariants(case_models, case):
+    spec, model = case_models[case]
+    assert_invariants(spec, model)
+
+
+def test_stitch_passes_through_every_needle_point(case_models):
+    """Each needle hole holds two vertical legs spanning the whole mat thickness."""
+    _, model = case_models["hpt310"]
+    stitch = model.role_mask("stitch")
+    xy = model.positions[stitch, :2]
+    z = model.positions[stitch, 2]
+    for hole in model.needle_points:
+        delta = xy - hole
+        delta -= np.rint(delta / model.box.lengths[:2]) * model.box.lengths[:2]
+        inside = np.linalg.norm(delta, axis=1) < model.needle_diameter / 2
+        assert z[inside].min() < model.faces_z[0] + 1e-6
+        assert z[inside].max() > model.faces_z[1] - 1e-6
+        # two legs: beads at mid-thickness on both sides of the hole axis
+        middle = inside & (np.abs(z - model.mat_thickness / 2) < model.mat_thickness / 4)
+        assert len(np.unique(np.sign(np.round(delta[middle, 1], 6)))) == 2
+
+
+@pytest.mark.parametrize(
+    ("pattern", "needles_per_repeat"), [("chain", 2), ("tricot", 2), ("tricot-chain", 4)]
+)
+def test_patterns_have_one_hole_per_course(pattern, needles_per_repeat):
+    model = build_model(tiny_spec(stitch={"pattern": pattern}))
+    assert len(model.needle_points) == needles_per_repeat
+    assert model.box.lengths[0] == pytest.approx(needles_per_repeat * 2800.0)
+
+
+def test_stitch_faces_loops_top_underlaps_bottom(case_models):
+    """The underlap face (bottom) carries the long segments; the loop face only short bridges."""
+    _, model = case_models["hpt310"]
+    stitch = model.role_mask("stitch")
+    z = model.positions[stitch, 2]
+    top = np.isclose(z, model.faces_z[1])
+    bottom = np.isclose(z, model.faces_z[0])
+    assert bottom.sum() > 5 * top.sum()
+
+
+def test_model_arrays_are_read_only(case_models):
+    _, model = case_models["mat-only"]
+    with pytest.raises(ValueError):
+        model.positions[0, 0] = 1.0
+
+
+def test_too_dense_mat_is_a_spec_error():
+    with pytest.raises(SpecError, match=r"mat.initial_fvf"):
+        build_model(
+            tiny_spec(mat={"initial_fvf": 0.78}, discretisation={"chain_diameter_um": 100.0})
+        )
+
+
+valid_specs = st.builds(
+    lambda d, ratio, fvf, aw0, aw1, pattern, stitched: tiny_spec(
+        discretisation={"chain_diameter_um": d, "bead_spacing_ratio": ratio},
+        mat={"initial_fvf": fvf},
+        ply=[
+            {"angle_deg": 90.0, "areal_weight_g_m2": aw0},
+            {"angle_deg": 0.0, "areal_weight_g_m2": aw1},
+        ],
+        stitch={"pattern": pattern, "needle_diameter_mm": 1.2} if stitched else None,
+        cell=None if stitched else {"length_mm": 3.0, "width_mm": 2.5},
+    ),
+    d=st.floats(100.0, 400.0),
+    ratio=st.floats(0.25, 1.0),
+    fvf=st.floats(0.1, 0.5),
+    aw0=st.floats(50.0, 400.0),
+    aw1=st.floats(50.0, 400.0),
+    pattern=st.sampled_from(["chain", "tricot", "tricot-chain"]),
+    stitched=st.booleans(),
+)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(valid_specs)
+def test_random_valid_specs_keep_invariants(spec):
+    try:
+        model = build_model(spec)
+    except SpecError as err:  # a dense mat or a needle that cannot fit is refused, by field
+        assert err.field in (
+            "mat.initial_fvf",
+            "stitch.needle_diameter_mm",
+            "discretisation.chain_diameter_um",
+        )
+        return
+    assert_invariants(spec, model)
