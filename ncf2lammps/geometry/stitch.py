@@ -1,16 +1,17 @@
 """The idealised stitch yarn from warp-knitting lapping notation (pure numpy).
 
-Convention (docs/stitch.md): course ``k`` of a repeat of ``K`` courses is the overlap ``a-b``;
-its needle is ``n = min(a, b)`` and its hole sits at ``x_k = (k + 1/2) l_s``,
-``y_k = (n + w + 1/2) g`` for the yarn of wale ``w`` (``l_s`` stitch length, ``g`` gauge). At each
-hole the yarn makes a loop with sharp corners: it rises through the hole on the side of gap ``a``
-(``y_k +- e``), crosses over the needle on the loop face (top, ``z_top``) to the side of gap ``b``
-and goes down again. On the underlap face (bottom, ``z_bottom``) it runs straight from hole ``k``
-to hole ``k + 1``: underlaps from one wale to the next draw the zigzag of tricot, underlaps within
-a wale the straight lines of chain (pillar). After the repeat the path continues shifted by
-``K l_s`` along x, so one yarn per wale closes on itself through the periodic boundary.
-Every corner is a right angle, so with ``special_bonds lj 0 0 1`` no bead near a corner overlaps
-a third neighbour.
+Convention (docs/stitch.md): course ``k`` of a repeat is the overlap ``a-b``; its needle is
+``n = min(a, b)`` and its hole sits at ``x_k = (k + 1/2) l_s``, ``y_k = (n + w + 1/2) g`` for the
+yarn of wale ``w`` (``l_s`` stitch length, ``g`` gauge). The yarn passes through the holes in
+course order, with sharp corners, alternately rising and sinking: from hole ``k`` to hole
+``k + 1`` it runs straight on the loop face (top) after a rise and on the underlap face (bottom)
+after a sink. Every face segment thus spans fibres between two different holes, so the
+pretensioned yarn presses the mat together instead of slipping back through its own hole. For
+tricot-chain (needles A A B B) the loop face shows straight loops along the wales and the
+underlap face the diagonal zigzag between wales. A cell holds an even number of courses so the
+path closes on itself; after them it continues shifted by the cell length along x. Every corner
+is a right angle, so with ``special_bonds lj 0 0 1`` no bead near a corner overlaps a third
+neighbour.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ import numpy as np
 __all__ = ["SEGMENT_KINDS", "StitchPath", "stitch_path"]
 
 #: Names of the segment kinds, indexed by :attr:`StitchPath.kind`.
-SEGMENT_KINDS = ("leg_up", "loop", "leg_down", "underlap")
+SEGMENT_KINDS = ("leg", "loop", "underlap")
 
 
 @dataclass(frozen=True)
@@ -48,7 +49,6 @@ def stitch_path(
     gauge: float,
     stitch_length: float,
     cell: tuple[float, float],
-    leg_offset: float,
     z_bottom: float,
     z_top: float,
 ) -> StitchPath:
@@ -57,35 +57,30 @@ def stitch_path(
     Args:
         overlaps: lapping of one repeat, ``((a, b), ...)``, one per course.
         gauge, stitch_length: needle spacing (y) and course spacing (x), um.
-        cell: (length x, width y) of the cell, whole multiples of the repeat, um.
-        leg_offset: half the distance between the two legs of a loop, um.
+        cell: (length x, width y) of the cell, um; holds a whole, even number of courses and a
+            whole number of wales.
         z_bottom, z_top: heights of the underlap face and the loop face, um.
     """
     a, b = np.asarray(overlaps, dtype=np.int64).T
-    n_repeats = round(cell[0] / (len(a) * stitch_length))
+    n_courses = round(cell[0] / stitch_length)
     n_wales = round(cell[1] / gauge)
-    needle = np.minimum(a, b)
-    side_a = np.where(a > needle, 1.0, -1.0)
-    needle = np.tile(needle, n_repeats)
-    side_a = np.tile(side_a, n_repeats)
-    n_courses = len(needle)
+    needle = np.resize(np.minimum(a, b), n_courses)
     x = (np.arange(n_courses) + 0.5) * stitch_length
     y = (needle + 0.5) * gauge
-    # Four corners per course: bottom and top of the leg on side a, top and bottom on side b.
-    corner_x = np.repeat(x, 4)
-    corner_y = np.repeat(y, 4) + leg_offset * np.repeat(side_a, 4) * np.tile(
-        [1, 1, -1, -1], n_courses
+    # Two corners per hole: rise (bottom, top) at even courses, sink (top, bottom) at odd ones.
+    rising = np.arange(n_courses) % 2 == 0
+    z_first = np.where(rising, z_bottom, z_top)
+    z_second = np.where(rising, z_top, z_bottom)
+    one_yarn = np.column_stack(
+        [np.repeat(x, 2), np.repeat(y, 2), np.column_stack([z_first, z_second]).ravel()]
     )
-    corner_z = np.tile([z_bottom, z_top, z_top, z_bottom], n_courses)
-    one_yarn = np.column_stack([corner_x, corner_y, corner_z])
+    kind = np.column_stack([np.zeros(n_courses, dtype=np.int64), np.where(rising, 1, 2)]).ravel()
     wale_shift = np.zeros((n_wales, 1, 3))
     wale_shift[:, 0, 1] = np.arange(n_wales) * gauge
-    yarns = one_yarn[None, :, :] + wale_shift
-    kind = np.tile(np.arange(4), n_courses)
     holes_x = np.repeat(x, n_wales)
     holes_y = (np.add.outer(y, np.arange(n_wales) * gauge) % cell[1]).ravel()
     return StitchPath(
-        yarn_vertices=yarns,
+        yarn_vertices=one_yarn[None, :, :] + wale_shift,
         closing_shift=np.array([cell[0], 0.0, 0.0]),
         kind=kind,
         needle_points=np.column_stack([holes_x, holes_y]),

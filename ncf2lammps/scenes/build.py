@@ -18,11 +18,31 @@ from ..io.spectoml import write_spec
 from ..model import Model, build_model
 from ..numerics import ContactLaw, TimeStep, contact_law, time_step
 from ..spec import FabricSpec
+from . import manufacture
 
-__all__ = ["SCENES", "Build", "OutputExistsError", "build", "deck_context", "prepare_output"]
+__all__ = [
+    "SCENES",
+    "Build",
+    "OutputExistsError",
+    "applicable_scenes",
+    "build",
+    "deck_context",
+    "prepare_output",
+]
 
-#: Scenes with a deck, in the order ``run`` executes them.
-SCENES = ("verify",)
+#: Scenes in the order ``run`` executes them; ``verify`` (load, run 0) is built but not run.
+SCENES = ("manufacture",)
+
+
+def applicable_scenes(spec: FabricSpec) -> tuple[str, ...]:
+    """The scenes a spec supports, in run order (manufacture needs a stitch)."""
+    return tuple(s for s in SCENES if s != "manufacture" or spec.stitch is not None)
+
+
+def _scene_values(scene: str, spec: FabricSpec, model: Model) -> dict:
+    if scene == "manufacture":
+        return manufacture.deck_values(spec, model)
+    return {}
 
 
 class OutputExistsError(FileExistsError):
@@ -85,8 +105,10 @@ def build(spec: FabricSpec, directory: str | os.PathLike, force: bool = False) -
         write_spec(partial / "spec.resolved.toml", spec)
         (partial / "decks").mkdir()
         decks = {}
-        for scene in SCENES:
-            text = render(f"{scene}.lmp.j2", **deck_context(spec, model, scene, "model.data"))
+        for scene in ("verify", *applicable_scenes(spec)):
+            values = deck_context(spec, model, scene, "model.data")
+            values.update(_scene_values(scene, spec, model))
+            text = render(f"{scene}.lmp.j2", **values)
             (partial / "decks" / f"in.{scene}.lmp").write_text(text)
             decks[scene] = final / "decks" / f"in.{scene}.lmp"
         if final.exists():

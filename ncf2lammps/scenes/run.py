@@ -3,9 +3,10 @@
 Stages of :func:`run`:
 1. build the folder (model.data, spec.resolved.toml, decks) atomically;
 2. create results.h5 with the root attributes (``complete = False``);
-3. for each scene in :data:`~ncf2lammps.scenes.build.SCENES` order that was asked for: open
-   LAMMPS in the folder, run the scene's deck through its runner, write its group;
-4. set ``complete = True`` on the file.
+3. for each scene asked for, in :data:`~ncf2lammps.scenes.build.SCENES` order: open LAMMPS in
+   the folder, run the scene's deck through its runner (chunked, with progress), write its
+   group;
+4. set ``complete = True`` on the file; write figures/ and summary.md.
 """
 
 from __future__ import annotations
@@ -20,25 +21,17 @@ from .. import __version__
 from ..engine import Engine
 from ..io.results import mark_complete, write_root, write_scene
 from ..io.spectoml import dumps_spec
-from ..spec import FabricSpec
-from .build import SCENES, Build, build
+from ..spec import FabricSpec, SpecError
+from . import manufacture
+from .build import applicable_scenes, build
+from .progress import Progress
+from .report import write_report
 
 __all__ = ["RUNNERS", "run"]
 
 
-def _verify(engine: Engine, built: Build) -> tuple[dict, dict]:
-    """Load the model, evaluate forces once, compare counts with the model."""
-    engine.file("decks/in.verify.lmp")
-    if (engine.natoms, engine.nbonds) != (built.model.n_atoms, built.model.n_bonds):
-        raise RuntimeError(
-            f"LAMMPS read {engine.natoms} atoms / {engine.nbonds} bonds, model has"
-            f" {built.model.n_atoms} / {built.model.n_bonds}"
-        )
-    return {"steps": engine.step}, {}
-
-
-#: Scene name -> runner(engine, build) returning (attrs, datasets) of its results.h5 group.
-RUNNERS: dict[str, Callable[[Engine, Build], tuple[dict, dict]]] = {"verify": _verify}
+#: Scene name -> runner(engine, spec, model, progress) returning (attrs, datasets).
+RUNNERS: dict[str, Callable] = {"manufacture": manufacture.execute}
 
 
 def run(
@@ -48,7 +41,12 @@ def run(
     force: bool = False,
 ) -> Path:
     """Build ``directory`` and run ``scenes`` (default: all) in order; returns results.h5."""
-    wanted = [s for s in SCENES if scenes is None or s in scenes]
+    available = applicable_scenes(spec)
+    wanted = [s for s in available if scenes is None or s in scenes]
+    if scenes is not None and (missing := set(scenes) - set(available)):
+        raise SpecError(
+            "--scene", sorted(missing)[0], f"not available for this spec ({', '.join(available)})"
+        )
     built = build(spec, directory, force=force)
     results = built.directory / "results.h5"
     with Engine(built.directory, log=None) as engine:
@@ -67,9 +65,10 @@ def run(
     )
     for scene in wanted:
         start = time.perf_counter()
-        with Engine(built.directory, log=f"log.{scene}.lammps") as engine:
-            attrs, datasets = RUNNERS[scene](engine, built)
+        with Engine(built.directory, log=f"log.{scene}.lammps") as engine, Progress(scene) as bar:
+            attrs, datasets = RUNNERS[scene](engine, spec, built.model, bar.update)
         attrs["wall_s"] = time.perf_counter() - start
         write_scene(results, scene, attrs, datasets)
     mark_complete(results)
+    write_report(built.directory)
     return results

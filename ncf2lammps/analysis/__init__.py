@@ -1,0 +1,1 @@
+"""Analysis: pure numpy (and MDAnalysis) on positions and recorded curves; plots."""

@@ -1,0 +1,102 @@
+"""Plots: plain functions taking ``ax=None`` (matplotlib, headless).
+
+Renders of the cell draw every bead as a disc of its true diameter, in depth order, so the face
+that a viewer would see ends up on top (painter's algorithm); the cell is tiled ``repeat``
+times like the paper's Fig. 4.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.collections import EllipseCollection
+
+__all__ = ["VIEWS", "render_cell", "render_views"]
+
+#: View name -> (horizontal axis, vertical axis, depth axis, depth sign toward the viewer).
+VIEWS = {
+    "front": (0, 1, 2, 1.0),  # loop face, seen from +z
+    "back": (0, 1, 2, -1.0),  # underlap face, seen from -z (mirrored in x)
+    "side": (0, 2, 1, -1.0),  # seen from -y
+}
+
+_COLOURS = np.array(
+    [[0.15, 0.15, 0.15], [0.45, 0.45, 0.45], [0.85, 0.2, 0.1], [0.2, 0.4, 0.8], [0.3, 0.7, 0.3]]
+)
+
+
+def _tile(positions, box_lengths, tilt_xy, repeat):
+    """(N * rx * ry, 3) positions tiled over ``repeat`` cells of the (sheared) periodic box."""
+    rx, ry = repeat
+    a = np.array([box_lengths[0], 0.0, 0.0])
+    b = np.array([tilt_xy, box_lengths[1], 0.0])
+    shifts = np.array([i * a + j * b for i in range(rx) for j in range(ry)])
+    return (positions[None, :, :] + shifts[:, None, :]).reshape(-1, 3), len(shifts)
+
+
+def render_cell(
+    positions: np.ndarray,
+    diameter: np.ndarray,
+    colour_index: np.ndarray,
+    box_lengths: np.ndarray,
+    view: str = "front",
+    repeat: tuple[int, int] = (3, 2),
+    tilt_xy: float = 0.0,
+    ax=None,
+):
+    """Draw the beads of a cell seen from one side; returns the axes.
+
+    Args:
+        positions: (N, 3) um; diameter: (N,) um; colour_index: (N,) int (e.g. type id).
+        box_lengths: (3,) um; tilt_xy: xy tilt of a sheared box (um).
+        view: ``front`` (loop face, +z), ``back`` (underlap face, -z) or ``side`` (-y).
+        repeat: cells tiled along the two box edges in the plane.
+    """
+    h, v, depth, sign = VIEWS[view]
+    tiled, copies = _tile(
+        positions, box_lengths, tilt_xy, repeat if view != "side" else (repeat[0], 1)
+    )
+    size = np.tile(diameter, copies)
+    colours = _COLOURS[np.tile(colour_index, copies) % len(_COLOURS)]
+    order = np.argsort(sign * tiled[:, depth], kind="stable")
+    # Shade by depth so that layers read apart.
+    z = sign * tiled[order, depth]
+    shade = 0.55 + 0.45 * (z - z.min()) / max(np.ptp(z), 1e-12)
+    x = tiled[order, h] * (-1.0 if view == "back" else 1.0)
+    y = tiled[order, v]
+    if ax is None:
+        _, ax = plt.subplots(figsize=(10, 10 * max(np.ptp(y), 1) / max(np.ptp(x), 1) + 0.6))
+    discs = EllipseCollection(
+        size[order],
+        size[order],
+        np.zeros(len(order)),
+        units="xy",
+        offsets=np.column_stack([x, y]),
+        offset_transform=ax.transData,
+        facecolors=np.clip(colours[order] * shade[:, None], 0, 1),
+        edgecolors="none",
+    )
+    ax.add_collection(discs)
+    pad = float(size.max())
+    ax.set_xlim(x.min() - pad, x.max() + pad)
+    ax.set_ylim(y.min() - pad, y.max() + pad)
+    ax.set_aspect("equal")
+    ax.set_xlabel(["x", "y", "z"][h] + " (um)" + (" mirrored" if view == "back" else ""))
+    ax.set_ylabel(["x", "y", "z"][v] + " (um)")
+    return ax
+
+
+def render_views(positions, diameter, colour_index, box_lengths, title: str, tilt_xy: float = 0.0):
+    """Figure with front, back and side renders of a 3 x 2 tiling; returns the figure."""
+    fig, axes = plt.subplots(3, 1, figsize=(11, 13), gridspec_kw={"height_ratios": [3, 3, 1.2]})
+    for ax, view in zip(axes, ("front", "back", "side"), strict=True):
+        render_cell(positions, diameter, colour_index, box_lengths, view, tilt_xy=tilt_xy, ax=ax)
+        ax.set_title(
+            f"{title}: {view}"
+            + {"front": " (loop face)", "back": " (underlap face)", "side": ""}[view]
+        )
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,199 @@
+"""Manufacture scene (paper section 3): needles, stitch insertion, pretension, relaxation.
+
+Stages, in order (templates/manufacture.lmp.j2 marks each with ``# stage:``):
+
+1. ``needles``: stitch beads frozen and out of contact; one cylinder per needle hole (and its
+   periodic images near the cell edge) grows from a thread to the needle radius at the needle
+   speed and pushes fibre beads out (``fix wall/region`` harmonic, cutoff = bead radius), under
+   Langevin damping at T = 0.
+2. ``insertion``: checked first (Python): channels open (no fibre bead centre closer to a needle
+   axis than the needle radius) and no stitch bead overlapping a fibre bead by more than
+   ``insertion_overlap_tolerance`` x d. Then stitch-fibre contact on, everything integrated, the
+   needles still in place.
+3. ``pretension``: needles withdrawn; stitch rest lengths shrink at a constant strain rate until
+   the mean stitch tension reaches the target (the paper's negative thermal load).
+4. ``relaxation``: an integral controller (``fix controller``) trims the strain to hold the target
+   while the cell relaxes; stops when the windowed tension error and kinetic ratio are below
+   their thresholds; writes ``manufactured.restart`` and ``manufactured.data``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import units
+from ..analysis.geometry import max_overlap, min_xy_distance
+from ..engine import Engine, EngineError
+from ..io.lammpslog import read_ave_time
+from ..model import Model
+from ..numerics import contact_law, time_step
+from ..spec import FabricSpec
+
+__all__ = ["ManufactureError", "deck_values", "execute", "needle_axes"]
+
+#: Time-averaging window of the convergence check, in controller invocations.
+WINDOW = 20
+#: Controller invocations per damping... steps between controller updates.
+CONTROL_EVERY = 10
+
+
+class ManufactureError(EngineError):
+    """A manufacture check failed (channels not open, stitch overlapping fibres)."""
+
+
+def _line_clearance(coordinate: np.ndarray, lines: np.ndarray, period: float) -> np.ndarray:
+    """Periodic distance from each coordinate (any shape) to the nearest line (inf if none)."""
+    if len(lines) == 0:
+        return np.full(coordinate.shape, np.inf)
+    gap = coordinate[..., None] - lines
+    gap -= np.rint(gap / period) * period
+    return np.abs(gap).min(axis=-1)
+
+
+def _axis_offsets(model: Model) -> np.ndarray:
+    """(P, 2) small shifts of the needle axes off the chain lines through the holes.
+
+    A straight chain that crosses a needle axis is pushed along itself from both sides and
+    never cleared; a real needle point deflects it to one side. Each axis is moved by up to
+    ``d/2`` (on a 5 x 5 grid of candidates) to the spot farthest from every chain line.
+    """
+    fibre = model.role_mask("fibre")
+    d = float(model.diameter[fibre].max())
+    lengths = model.box.lengths[:2]
+    # Chain lines: 0 deg chains have a constant y, 90 deg chains a constant x.
+    angle = np.array([t.angle_deg if t.role == "fibre" else np.nan for t in model.atom_types])
+    chain_first = np.unique(model.mol_id[fibre], return_index=True)[1]
+    first_bead = np.flatnonzero(fibre)[chain_first]
+    chain_angle = angle[model.type_id[first_bead]]
+    lines_y = model.positions[first_bead[chain_angle == 0.0], 1]
+    lines_x = model.positions[first_bead[chain_angle == 90.0], 0]
+    grid = np.linspace(-0.5 * d, 0.5 * d, 5)
+    candidates = np.array([(ox, oy) for ox in grid for oy in grid])
+    axes = model.needle_points[:, None, :] + candidates[None, :, :]  # (P, C, 2)
+    worst = np.minimum(
+        _line_clearance(axes[..., 1], lines_y, lengths[1]),
+        _line_clearance(axes[..., 0], lines_x, lengths[0]),
+    )
+    offsets = candidates[np.argmax(worst, axis=1)]
+    return offsets
+
+
+def needle_axes(model: Model) -> np.ndarray:
+    """(Q, 2) needle axes: every hole (shifted off the chain lines, see :func:`_axis_offsets`)
+    and each periodic image whose needle reaches into the cell."""
+    lengths = model.box.lengths[:2]
+    reach = model.needle_diameter / 2 + float(model.diameter.max())
+    centres = model.needle_points + _axis_offsets(model)
+    shifts = np.array([(i, j) for i in (-1, 0, 1) for j in (-1, 0, 1)], dtype=float) * lengths
+    images = (centres[:, None, :] + shifts[None, :, :]).reshape(-1, 2)
+    inside = np.all((images > -reach) & (images < lengths + reach), axis=1)
+    return images[inside]
+
+
+def deck_values(spec: FabricSpec, model: Model) -> dict:
+    """Typed values of templates/manufacture.lmp.j2 (LAMMPS micro units)."""
+    settings = spec.manufacture
+    step = time_step(spec, model)
+    dt = step.dt
+    law = contact_law(spec, model)
+    fibre = model.role_mask("fibre")
+    fibre_types = [i + 1 for i, t in enumerate(model.atom_types) if t.role == "fibre"]
+    stitch_type = next(i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch")
+    axes = needle_axes(model)
+    radius = model.needle_diameter / 2
+    nearest = float(min_xy_distance(model.positions[fibre], axes, model.box.lengths).min())
+    start_radius = max(1e-3, min(0.5 * nearest, 0.1 * radius))
+    speed = units.to_micro(settings.needle_speed_m_s, "m_s")
+    damping_steps = math.ceil(2 * settings.damping_time_us / dt)
+    stitch_bonds = [(i + 1, t.r0) for i, t in enumerate(model.bond_types) if t.role == "stitch"]
+    return {
+        "fibre_types": fibre_types,
+        "stitch_type": stitch_type,
+        "needles": [(float(x), float(y)) for x, y in axes],
+        "needle_radius": radius,
+        "needle_start_radius": start_radius,
+        "needle_speed": speed,
+        "needle_zlo": float(model.box.lo[2]),
+        "needle_zhi": float(model.box.hi[2]),
+        "needle_epsilon": law.stiffness / 2,
+        "needle_cutoff": float(model.diameter[fibre].max()) / 2,
+        "needle_steps": math.ceil((radius - start_radius) / speed / dt) + damping_steps,
+        "insertion_steps": damping_steps,
+        "damping_time": settings.damping_time_us,
+        "seed": 4928,
+        "tension": units.to_micro(settings.stitch_tension_N, "N"),
+        "strain_rate": settings.pretension_strain_rate_per_us,
+        "ramp_steps": settings.max_ramp_steps,
+        "stitch_bond_types": stitch_bonds,
+        "control_every": CONTROL_EVERY,
+        "control_time": settings.control_time_us,
+        "window": WINDOW,
+        "tension_tolerance": settings.tension_tolerance,
+        "kinetic_ratio_target": settings.kinetic_ratio_target,
+        "relax_steps": settings.max_relax_steps,
+        "history_every": CONTROL_EVERY * WINDOW // 2,
+    }
+
+
+def _check_channels_and_overlap(engine: Engine, spec: FabricSpec, model: Model) -> dict:
+    """Measure the channels after the needle step and the stitch-fibre overlap at insertion."""
+    positions = engine.gather("x", 3)
+    fibre = model.role_mask("fibre")
+    stitch = model.role_mask("stitch")
+    centres = model.needle_points + _axis_offsets(model)
+    channel = min_xy_distance(positions[fibre], centres, model.box.lengths)
+    radius = model.needle_diameter / 2
+    if np.any(channel < radius):
+        worst = int(np.argmin(channel))
+        raise ManufactureError(
+            f"channel check at step {engine.step}: a fibre bead centre sits {channel[worst]:.4g} um"
+            f" from needle {worst} (radius {radius:.4g} um); raise manufacture.damping_time_us or"
+            " lower manufacture.needle_speed_m_s so the needles finish opening the channels"
+        )
+    overlap, i, j = max_overlap(positions, model.diameter, stitch, fibre, model.box.lengths)
+    d_ref = 0.5 * (model.diameter[stitch].max() + model.diameter[fibre].max())
+    tolerance = spec.manufacture.insertion_overlap_tolerance
+    if overlap > tolerance * d_ref:
+        raise ManufactureError(
+            f"insertion check at step {engine.step}: stitch bead {i + 1} overlaps fibre bead"
+            f" {j + 1} by {overlap / d_ref:.3g} d (tolerance {tolerance:g} d); raise"
+            " stitch.needle_diameter_mm or manufacture.insertion_overlap_tolerance"
+        )
+    return {
+        "channel_min_distance_um": float(channel.min()),
+        "needle_radius_um": float(radius),
+        "insertion_max_overlap_d": max(0.0, overlap / d_ref),
+    }
+
+
+def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[dict, dict]:
+    """Run decks/in.manufacture.lmp in ``engine``; return (attrs, datasets) for /manufacture."""
+    checks: dict = {}
+
+    def on_stage(stage: str) -> None:
+        if stage == "insertion":
+            checks.update(_check_channels_and_overlap(engine, spec, model))
+
+    engine.run_deck("decks/in.manufacture.lmp", chunk=2000, on_stage=on_stage, on_chunk=progress)
+    history = read_ave_time("manufacture.history.txt")
+    target = spec.manufacture.stitch_tension_N
+    tension = units.from_micro(engine.variable("tension"), "N")
+    attrs = {
+        "steps": engine.step,
+        "thickness_mm": units.from_micro(engine.variable("thickness"), "mm"),
+        "stitch_tension_N": tension,
+        "stitch_tension_target_N": target,
+        "stitch_tension_error": (tension - target) / target,
+        "kinetic_ratio": engine.variable("kinetic_ratio"),
+        "kinetic_ratio_target": spec.manufacture.kinetic_ratio_target,
+        **checks,
+    }
+    datasets = {
+        "time_us": history["v_time"],
+        "stitch_tension_N": units.from_micro(history["v_tension"], "N"),
+        "thickness_mm": units.from_micro(history["v_thickness"], "mm"),
+        "kinetic_ratio": history["v_kinetic_ratio"],
+    }
+    return attrs, datasets

@@ -1,0 +1,42 @@
+"""Plots of the validation cases (matplotlib, Agg backend; plain functions writing PNG files)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["line_plot"]
+
+
+def line_plot(
+    path: Path,
+    curves: Sequence[tuple[np.ndarray, np.ndarray, str]],
+    xlabel: str,
+    ylabel: str,
+    title: str,
+    styles: Sequence[str] | None = None,
+) -> Path:
+    """Write one axes of ``(x, y, label)`` curves to ``path`` (PNG); returns ``path``.
+
+    ``styles`` are matplotlib format strings, one per curve (default: lines).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.0, 4.0), dpi=110)
+    for i, (x, y, label) in enumerate(curves):
+        ax.plot(x, y, styles[i] if styles else "-", label=label)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    plt.close(fig)
+    return path

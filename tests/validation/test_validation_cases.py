@@ -1,0 +1,78 @@
+"""Validation cases run in LAMMPS and judged against their laws (DESIGN 9).
+
+The fast forms run in CI; ``full`` forms (all angles, spacings, longer records) are ``slow``.
+Each test asserts the law with the tolerance stated in the case's docstring.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from ncf2lammps.scenes.validation import CASES, run_case
+from ncf2lammps.scenes.validation.sliding import roughness_estimate
+
+
+def _rows(result):
+    return {c.name: c for c in result.checks}
+
+
+def test_waves(tmp_path):
+    rows = _rows(run_case("waves", tmp_path))
+    speed = rows["wave speed c (m/s)"]
+    assert speed.expected == pytest.approx(math.sqrt(240e6 / 1.8))
+    assert abs(speed.measured / speed.expected - 1) <= 0.005
+    for n in (1, 2, 3):
+        mode = rows[f"mode {n} omega (rad/us)"]
+        assert abs(mode.measured / mode.expected - 1) <= 0.005, mode
+    drift = next(c for c in rows.values() if c.name.startswith("energy drift"))
+    assert drift.measured <= 1e-4
+
+
+def test_hertz(tmp_path):
+    result = run_case("hertz", tmp_path)
+    force, exponent = result.checks
+    assert abs(force.measured / force.expected - 1) <= 0.005
+    assert exponent.measured == pytest.approx(1.5, rel=0.005)
+
+
+def test_coulomb_sliding(tmp_path):
+    rows = _rows(run_case("sliding", tmp_path))
+    assert rows["wall, F/N at mu = 0.3"].measured == pytest.approx(0.3, rel=0.005)
+    assert rows["wall, |F/N| at mu = 0"].measured < 1e-3
+    for name in ("crossing chain, s = d/2: F/(mu N)", "parallel chain, s = d/2: F/(mu N)"):
+        assert 1.0 <= rows[name].measured <= 1.05, rows[name]
+
+
+def test_capstan_half_turn(tmp_path):
+    (check,) = run_case("capstan", tmp_path).checks
+    assert check.expected == pytest.approx(math.exp(0.3 * math.pi))
+    assert abs(check.measured / check.expected - 1) <= 0.01
+
+
+def test_shear_identities(tmp_path):
+    zero, work, energy, analytic = run_case("shear", tmp_path).checks
+    assert zero.measured < 0.01  # |F_N| / N0
+    for check in (work, energy, analytic):
+        assert abs(check.measured / check.expected - 1) <= 0.02, check
+
+
+def test_packing_limit(tmp_path):
+    side, nested = run_case("packing", tmp_path).checks
+    assert side.measured == pytest.approx(math.pi / (2 * math.sqrt(3)), rel=0.01)
+    assert nested.measured == pytest.approx(0.9328, rel=0.01)
+
+
+def test_roughness_estimate_matches_design():
+    """DESIGN 6: 1 + (1 + mu^2) s^2 / (12 d^2) at s = d/2, mu = 0.3."""
+    assert roughness_estimate(69.0 / 2) == pytest.approx(1 + 1.09 / 48)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(CASES))
+def test_full_case(name, tmp_path):
+    """The full set: every check of every case within its tolerance."""
+    result = run_case(name, tmp_path, full=True)
+    failed = [c.row() for c in result.checks if not c.passed]
+    assert not failed, failed
