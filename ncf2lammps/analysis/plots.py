@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import EllipseCollection
 
-__all__ = ["VIEWS", "render_cell", "render_views"]
+__all__ = ["VIEWS", "plot_histories", "render_cell", "render_views"]
 
 #: View name -> (horizontal axis, vertical axis, depth axis, depth sign toward the viewer).
 VIEWS = {
@@ -98,5 +98,25 @@ def render_views(positions, diameter, colour_index, box_lengths, title: str, til
             f"{title}: {view}"
             + {"front": " (loop face)", "back": " (underlap face)", "side": ""}[view]
         )
+    fig.tight_layout()
+    return fig
+
+
+def plot_histories(time, series: list[tuple[str, np.ndarray, float | None, bool]], title: str):
+    """Stacked time histories sharing the time axis (us); returns the figure.
+
+    ``series``: (label, values, reference line or None, logarithmic) per panel.
+    """
+    fig, axes = plt.subplots(len(series), 1, figsize=(7, 2.3 * len(series)), sharex=True)
+    for ax, (label, values, reference, log) in zip(np.atleast_1d(axes), series, strict=True):
+        if log:
+            ax.semilogy(time, np.maximum(values, 1e-12))
+        else:
+            ax.plot(time, values)
+        if reference is not None:
+            ax.axhline(reference, ls="--", c="k", lw=0.8)
+        ax.set_ylabel(label)
+    np.atleast_1d(axes)[0].set_title(title)
+    np.atleast_1d(axes)[-1].set_xlabel("time (us)")
     fig.tight_layout()
     return fig

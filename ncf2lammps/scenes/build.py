@@ -6,6 +6,7 @@ interrupted build never leaves a folder that looks complete.
 
 from __future__ import annotations
 
+import importlib
 import os
 import shutil
 from dataclasses import dataclass
@@ -18,7 +19,6 @@ from ..io.spectoml import write_spec
 from ..model import Model, build_model
 from ..numerics import ContactLaw, TimeStep, contact_law, time_step
 from ..spec import FabricSpec
-from . import manufacture
 
 __all__ = [
     "SCENES",
@@ -31,18 +31,20 @@ __all__ = [
 ]
 
 #: Scenes in the order ``run`` executes them; ``verify`` (load, run 0) is built but not run.
+#: Each is a module ``ncf2lammps.scenes.<name>`` with ``applies(spec)``, ``requires(spec)``,
+#: ``deck_values(spec, model)``, ``execute(engine, spec, model, progress)`` and
+#: ``figures(results, directory)``.
 SCENES = ("manufacture",)
+
+
+def scene_module(name: str):
+    """The module implementing scene ``name``."""
+    return importlib.import_module(f"{__package__}.{name}")
 
 
 def applicable_scenes(spec: FabricSpec) -> tuple[str, ...]:
     """The scenes a spec supports, in run order (manufacture needs a stitch)."""
-    return tuple(s for s in SCENES if s != "manufacture" or spec.stitch is not None)
-
-
-def _scene_values(scene: str, spec: FabricSpec, model: Model) -> dict:
-    if scene == "manufacture":
-        return manufacture.deck_values(spec, model)
-    return {}
+    return tuple(s for s in SCENES if scene_module(s).applies(spec))
 
 
 class OutputExistsError(FileExistsError):
@@ -76,6 +78,7 @@ def deck_context(spec: FabricSpec, model: Model, scene: str, data_file: str = "m
         "version": __version__,
         "scene": scene,
         "data_file": data_file,
+        "restart_file": None,
         "contact": contact_law(spec, model),
         "dt": step.dt,
         "skin": skin,
@@ -107,7 +110,8 @@ def build(spec: FabricSpec, directory: str | os.PathLike, force: bool = False) -
         decks = {}
         for scene in ("verify", *applicable_scenes(spec)):
             values = deck_context(spec, model, scene, "model.data")
-            values.update(_scene_values(scene, spec, model))
+            if scene != "verify":
+                values.update(scene_module(scene).deck_values(spec, model))
             text = render(f"{scene}.lmp.j2", **values)
             (partial / "decks" / f"in.{scene}.lmp").write_text(text)
             decks[scene] = final / "decks" / f"in.{scene}.lmp"

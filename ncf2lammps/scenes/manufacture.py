@@ -20,18 +20,30 @@ Stages, in order (templates/manufacture.lmp.j2 marks each with ``# stage:``):
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import units
 from ..analysis.geometry import max_overlap, min_xy_distance
+from ..analysis.plots import plot_histories, render_views
 from ..engine import Engine, EngineError
+from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time
 from ..model import Model
 from ..numerics import contact_law, time_step
 from ..spec import FabricSpec
 
-__all__ = ["ManufactureError", "deck_values", "execute", "needle_axes"]
+__all__ = [
+    "ManufactureError",
+    "applies",
+    "deck_values",
+    "execute",
+    "figures",
+    "needle_axes",
+    "requires",
+]
 
 #: Time-averaging window of the convergence check, in controller invocations.
 WINDOW = 20
@@ -78,6 +90,16 @@ def _axis_offsets(model: Model) -> np.ndarray:
     )
     offsets = candidates[np.argmax(worst, axis=1)]
     return offsets
+
+
+def applies(spec: FabricSpec) -> bool:
+    """Manufacture needs a stitch."""
+    return spec.stitch is not None
+
+
+def requires(spec: FabricSpec) -> tuple[str, ...]:
+    """No scene must run before manufacture."""
+    return ()
 
 
 def needle_axes(model: Model) -> np.ndarray:
@@ -197,3 +219,41 @@ def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[d
         "kinetic_ratio": history["v_kinetic_ratio"],
     }
     return attrs, datasets
+
+
+def figures(results: dict, directory: Path) -> list[Path]:
+    """Renders of the manufactured cell (front, back, side; 3 x 2 cells) and the histories."""
+    group = results["manufacture"]
+    attrs = group["attrs"]
+    written = []
+    state_file = directory / "manufactured.data"
+    if state_file.is_file():
+        state = read_data(state_file)
+        fig = render_views(
+            state.positions,
+            state.diameter,
+            state.type_id,
+            state.box.hi - state.box.lo,
+            "as manufactured",
+        )
+        written.append(directory / "figures" / "manufacture_views.png")
+        fig.savefig(written[-1], dpi=110)
+        plt.close(fig)
+    fig = plot_histories(
+        group["time_us"],
+        [
+            (
+                "stitch tension (N)",
+                group["stitch_tension_N"],
+                attrs["stitch_tension_target_N"],
+                False,
+            ),
+            ("thickness (mm)", group["thickness_mm"], None, False),
+            ("kinetic / potential", group["kinetic_ratio"], attrs["kinetic_ratio_target"], True),
+        ],
+        "manufacture",
+    )
+    written.append(directory / "figures" / "manufacture_history.png")
+    fig.savefig(written[-1], dpi=110)
+    plt.close(fig)
+    return written

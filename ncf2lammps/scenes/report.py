@@ -5,35 +5,12 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
-from ..analysis.plots import render_views
-from ..io.datafile import read_data
 from ..io.results import read_results
+from .build import SCENES, scene_module
 
 __all__ = ["write_report"]
-
-
-def _history_figure(group: dict, title: str):
-    """Stitch tension, thickness and kinetic ratio against time."""
-    fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
-    time = group["time_us"]
-    axes[0].plot(time, group["stitch_tension_N"])
-    axes[0].axhline(
-        group["attrs"]["stitch_tension_target_N"], ls="--", c="k", lw=0.8, label="target"
-    )
-    axes[0].set_ylabel("stitch tension (N)")
-    axes[0].legend()
-    axes[1].plot(time, group["thickness_mm"])
-    axes[1].set_ylabel("thickness (mm)")
-    axes[2].semilogy(time, np.maximum(group["kinetic_ratio"], 1e-12))
-    axes[2].axhline(group["attrs"]["kinetic_ratio_target"], ls="--", c="k", lw=0.8)
-    axes[2].set_ylabel("kinetic / potential")
-    axes[2].set_xlabel("time (us)")
-    axes[0].set_title(title)
-    fig.tight_layout()
-    return fig
 
 
 def _format(value) -> str:
@@ -48,25 +25,11 @@ def write_report(directory: str | os.PathLike) -> list[Path]:
     """Write figures/*.png and summary.md for the run in ``directory``; returns the files."""
     directory = Path(directory)
     results = read_results(directory / "results.h5")
-    figures = directory / "figures"
-    figures.mkdir(exist_ok=True)
-    written = []
-    if "manufacture" in results and (directory / "manufactured.data").is_file():
-        state = read_data(directory / "manufactured.data")
-        fig = render_views(
-            state.positions,
-            state.diameter,
-            state.type_id,
-            state.box.hi - state.box.lo,
-            "as manufactured",
-        )
-        written.append(figures / "manufacture_views.png")
-        fig.savefig(written[-1], dpi=110)
-        plt.close(fig)
-        fig = _history_figure(results["manufacture"], "manufacture")
-        written.append(figures / "manufacture_history.png")
-        fig.savefig(written[-1], dpi=110)
-        plt.close(fig)
+    (directory / "figures").mkdir(exist_ok=True)
+    written: list[Path] = []
+    for scene in SCENES:
+        if scene in results:
+            written += scene_module(scene).figures(results, directory)
     root = results["attrs"]
     lines = [
         "# ncf2lammps run summary",

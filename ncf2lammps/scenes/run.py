@@ -3,9 +3,10 @@
 Stages of :func:`run`:
 1. build the folder (model.data, spec.resolved.toml, decks) atomically;
 2. create results.h5 with the root attributes (``complete = False``);
-3. for each scene asked for, in :data:`~ncf2lammps.scenes.build.SCENES` order: open LAMMPS in
-   the folder, run the scene's deck through its runner (chunked, with progress), write its
-   group;
+3. for each scene asked for and the scenes they require (compaction and shear of a stitched
+   fabric start from manufacture), in :data:`~ncf2lammps.scenes.build.SCENES` order: open
+   LAMMPS in the folder, run the scene's deck through its runner (chunked, with progress),
+   write its group;
 4. set ``complete = True`` on the file; write figures/ and summary.md.
 """
 
@@ -13,7 +14,7 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from datetime import UTC, datetime
 from pathlib import Path
 
@@ -22,16 +23,11 @@ from ..engine import Engine
 from ..io.results import mark_complete, write_root, write_scene
 from ..io.spectoml import dumps_spec
 from ..spec import FabricSpec, SpecError
-from . import manufacture
-from .build import applicable_scenes, build
+from .build import applicable_scenes, build, scene_module
 from .progress import Progress
 from .report import write_report
 
-__all__ = ["RUNNERS", "run"]
-
-
-#: Scene name -> runner(engine, spec, model, progress) returning (attrs, datasets).
-RUNNERS: dict[str, Callable] = {"manufacture": manufacture.execute}
+__all__ = ["run"]
 
 
 def run(
@@ -66,7 +62,7 @@ def run(
     for scene in wanted:
         start = time.perf_counter()
         with Engine(built.directory, log=f"log.{scene}.lammps") as engine, Progress(scene) as bar:
-            attrs, datasets = RUNNERS[scene](engine, spec, built.model, bar.update)
+            attrs, datasets = scene_module(scene).execute(engine, spec, built.model, bar.update)
         attrs["wall_s"] = time.perf_counter() - start
         write_scene(results, scene, attrs, datasets)
     mark_complete(results)

@@ -203,6 +203,7 @@ def _base_values(model: Model, dt: float, law: ContactLaw, scene: str) -> dict:
         "version": __version__,
         "scene": scene,
         "data_file": "model.data",
+        "restart_file": None,
         "contact": law,
         "dt": float(dt),
         "skin": skin,
