@@ -15,7 +15,7 @@ __version__ = "0.1.0"
 from .model import Model, build_model
 from .numerics import time_step
 from .scenes import build
-from .scenes.run import run
+from .scenes.run import run, run_scenes
 from .spec import FabricSpec, SpecError, load_spec, spec_from_dict
 
 __all__ = [
@@ -27,6 +27,7 @@ __all__ = [
     "build_model",
     "load_spec",
     "run",
+    "run_scenes",
     "spec_from_dict",
     "time_step",
 ]

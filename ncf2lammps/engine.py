@@ -208,7 +208,7 @@ class Engine:
             if not line:
                 continue
             match = _RUN.match(line)
-            if match is None:
+            if match is None or int(match.group(1)) == 0:
                 self.command(line)
                 continue
             total = int(match.group(1))

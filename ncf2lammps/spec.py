@@ -223,9 +223,12 @@ class CompactionSpec:
 
     final_fvf: float = _f(0.67, 0.05, 0.9, unit="-", source="paper Fig. 5c")
     plate_speed_m_s: float | None = _f(
-        None, 1e-6, 100.0, unit="m/s", source="None: from kinetic_ratio_target"
+        None, 1e-6, 100.0, unit="m/s", source="None: from inertial_number"
     )
+    inertial_number: float = _f(0.05, 1e-5, 1.0, unit="-", source="docs/compaction.md")
+    reference_pressure_kPa: float = _f(1.0, 1e-3, 1e4, unit="kPa", source="DIN ISO 5084")
     kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="DESIGN 8: < 1 %")
+    record_every_um: float = _f(1.0, 1e-3, 1e3, unit="um", source="gap resolution of the curve")
 
 
 @dataclass(frozen=True)
@@ -237,6 +240,9 @@ class ShearSpec:
         None, 1e-9, 1.0, unit="deg/us", source="None: from kinetic_ratio_target"
     )
     kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="DESIGN 8: < 1 %")
+    fibre_pretension_N_m: float = _f(
+        0.0, 0.0, 1000.0, unit="N/m", source="per unit width of each ply; paper frame: 22"
+    )
 
 
 _TABLES: dict[str, type] = {

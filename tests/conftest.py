@@ -52,3 +52,25 @@ def case_models():
     from ncf2lammps import build_model
 
     return {name: (case_spec(name), build_model(case_spec(name))) for name in CASES}
+
+
+@pytest.fixture(scope="session")
+def coarse_manufactured(tmp_path_factory):
+    """Folder of the coarse case after ``run --scene manufacture`` (run once per session).
+
+    Tests that run further scenes copy it (:func:`copy_run`) so that each starts from the same
+    manufactured state.
+    """
+    from ncf2lammps import run
+
+    folder = tmp_path_factory.mktemp("coarse") / "run"
+    run(case_spec("hpt310-coarse"), folder, scenes=["manufacture"])
+    return folder
+
+
+def copy_run(folder: Path, destination: Path) -> Path:
+    """A copy of a run folder to run more scenes in."""
+    import shutil
+
+    shutil.copytree(folder, destination)
+    return destination

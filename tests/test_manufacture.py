@@ -7,19 +7,16 @@ import numpy as np
 import pytest
 from conftest import case_spec
 
-from ncf2lammps import run
 from ncf2lammps.io.datafile import read_data
 from ncf2lammps.io.results import read_results
 from ncf2lammps.scenes.manufacture import needle_axes
 
 
 @pytest.fixture(scope="module")
-def manufactured(tmp_path_factory):
+def manufactured(coarse_manufactured):
     """(spec, run folder, results) of the coarse case after ``run --scene manufacture``."""
-    spec = case_spec("hpt310-coarse")
-    folder = tmp_path_factory.mktemp("coarse") / "run"
-    results = run(spec, folder, scenes=["manufacture"])
-    return spec, folder, read_results(results)
+    folder = coarse_manufactured
+    return case_spec("hpt310-coarse"), folder, read_results(folder / "results.h5")
 
 
 def test_results_follow_the_contract(manufactured):

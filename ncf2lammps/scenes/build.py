@@ -34,7 +34,7 @@ __all__ = [
 #: Each is a module ``ncf2lammps.scenes.<name>`` with ``applies(spec)``, ``requires(spec)``,
 #: ``deck_values(spec, model)``, ``execute(engine, spec, model, progress)`` and
 #: ``figures(results, directory)``.
-SCENES = ("manufacture",)
+SCENES = ("manufacture", "compaction", "shear")
 
 
 def scene_module(name: str):

@@ -1,0 +1,160 @@
+"""Compaction scene (paper section 4.1): closing plates, pressure against gap, Vf, ISO thickness.
+
+Stages (templates/compaction.lmp.j2):
+
+1. ``compaction``: from the manufactured state (restart) or, without a stitch, the generated mat;
+   a fixed bottom plate just under the lowest bead and a top plate just over the highest one
+   (``fix wall/gran/region`` on plane regions, Coulomb friction of the spec); the top plate moves
+   down at a constant speed to the gap of the final Vf; plate forces are summed by LAMMPS
+   (``compute reduce`` of the walls' ``contacts``) and recorded with the gap every
+   ``record_every_um`` of plate travel.
+
+The speed comes from an inertial-number target at the reference pressure (DIN ISO 5084: 1 kPa):
+``I = (v / h) d sqrt(rho / P)``, so ``v = I h sqrt(P / rho) / d`` (docs/compaction.md).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from .. import units
+from ..analysis.compaction import CompactionCurve
+from ..engine import Engine
+from ..io.lammpslog import read_ave_time
+from ..model import Model
+from ..numerics import contact_law, time_step
+from ..spec import FabricSpec
+
+__all__ = [
+    "EXPERIMENT",
+    "PAPER_MODEL_THICKNESS_1KPA_MM",
+    "applies",
+    "deck_values",
+    "execute",
+    "figures",
+    "plate_speed",
+    "requires",
+]
+
+#: Experiment of the paper (rheometer, one layer, 10 um/s): (thickness mm, pressure kPa).
+EXPERIMENT = ((0.68, 1.0), (0.44, 18.0))
+#: Thickness at 1 kPa given by the paper's digital-chain model (mm).
+PAPER_MODEL_THICKNESS_1KPA_MM = 0.34
+#: Pressures at which thickness is reported (kPa): DIN ISO 5084 and the rheometer maximum.
+REPORT_PRESSURES = (1.0, 18.0)
+
+
+def applies(spec: FabricSpec) -> bool:
+    """Every fabric can be compacted."""
+    return True
+
+
+def requires(spec: FabricSpec) -> tuple[str, ...]:
+    """A stitched fabric is compacted as manufactured."""
+    return ("manufacture",) if spec.stitch is not None else ()
+
+
+def plate_speed(spec: FabricSpec, model: Model) -> float:
+    """Plate speed (um/us): the spec's, else from the inertial number at the reference pressure."""
+    settings = spec.compaction
+    if settings.plate_speed_m_s is not None:
+        return units.to_micro(settings.plate_speed_m_s, "m_s")
+    fibre = model.role_mask("fibre")
+    rho = float(np.mean([t.density for t in model.atom_types if t.role == "fibre"]))
+    d = float(model.diameter[fibre].mean())
+    pressure = units.to_micro(settings.reference_pressure_kPa, "kPa")
+    return settings.inertial_number * model.mat_thickness * math.sqrt(pressure / rho) / d
+
+
+def _final_gap(spec: FabricSpec, model: Model) -> float:
+    """Gap (um) at the final Vf, from the cylinder-equivalent fibre volume."""
+    return model.fibre_volume / (model.cell_area * spec.compaction.final_fvf)
+
+
+def deck_values(spec: FabricSpec, model: Model) -> dict:
+    """Typed values of templates/compaction.lmp.j2 (LAMMPS micro units)."""
+    dt = time_step(spec, model).dt
+    speed = plate_speed(spec, model)
+    # The manufactured cell is no thicker than the generated stitch faces plus a bead: this
+    # bounds the travel; fix halt ends the run at the final gap.
+    start_gap = model.faces_z[1] - model.faces_z[0] + float(model.diameter.max())
+    travel = max(start_gap - _final_gap(spec, model), 0.0)
+    record = max(1, round(spec.compaction.record_every_um / speed / dt))
+    return {
+        "restart_file": "manufactured.restart" if spec.stitch is not None else None,
+        "contact": contact_law(spec, model),
+        "clearance": 1e-3 * float(model.diameter.min()),
+        "plate_speed": speed,
+        "steps": math.ceil(travel / speed / dt),
+        "record_every": record,
+        "final_gap": _final_gap(spec, model),
+    }
+
+
+def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[dict, dict]:
+    """Run decks/in.compaction.lmp; return (attrs, datasets) for /compaction."""
+    engine.run_deck("decks/in.compaction.lmp", chunk=5000, on_chunk=progress)
+    history = read_ave_time("compaction.history.txt")
+    final_gap = _final_gap(spec, model)
+    keep = history["v_gap"] >= final_gap * (1 - 1e-9)
+    gap = history["v_gap"][keep]
+    pressure = history["v_pressure"][keep]
+    per_area = model.fibre_volume / model.cell_area
+    curve = CompactionCurve(units.from_micro(gap, "mm"), pressure, units.from_micro(per_area, "mm"))
+    curve.compute()
+    # External work W = integral of plate force over travel; kinetic ratio KE / W once loaded.
+    force = 0.5 * (history["v_force_top"] + history["v_force_bottom"])[keep]
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (force[1:] + force[:-1]) * -np.diff(gap))])
+    loaded = work > 1e-3 * work[-1] if len(work) and work[-1] > 0 else np.zeros(len(work), bool)
+    kinetic = history["v_kinetic"][keep]
+    ratio = kinetic[loaded] / work[loaded]
+    t1, t18 = (curve.thickness_at(p) for p in REPORT_PRESSURES)
+    attrs = {
+        "steps": engine.step,
+        "thickness_at_1kPa_mm": t1,
+        "thickness_at_18kPa_mm": t18,
+        "fvf_at_18kPa": units.from_micro(per_area, "mm") / t18 if math.isfinite(t18) else math.nan,
+        "max_kinetic_ratio": float(ratio.max()) if len(ratio) else math.nan,
+        "kinetic_ratio_target": spec.compaction.kinetic_ratio_target,
+        "plate_speed_m_s": units.from_micro(plate_speed(spec, model), "m_s"),
+        "final_fvf": spec.compaction.final_fvf,
+    }
+    datasets = {
+        "time_us": history["v_time"][keep],
+        "gap_mm": curve.gap,
+        "pressure_kPa": curve.pressure,
+        "pressure_smoothed_kPa": curve.smoothed,
+        "fvf": curve.fvf,
+        "force_top_N": units.from_micro(history["v_force_top"][keep], "N"),
+        "force_bottom_N": units.from_micro(history["v_force_bottom"][keep], "N"),
+    }
+    return attrs, datasets
+
+
+def figures(results: dict, directory: Path) -> list[Path]:
+    """Pressure against thickness with the paper's experiment and model marked."""
+    group = results["compaction"]
+    attrs = group["attrs"]
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    ax.plot(group["gap_mm"], group["pressure_kPa"], lw=0.6, alpha=0.5, label="this run (raw)")
+    ax.plot(group["gap_mm"], group["pressure_smoothed_kPa"], lw=1.5, label="this run (smoothed)")
+    ax.plot(*zip(*EXPERIMENT, strict=True), "ks", label="experiment (paper)")
+    ax.plot([PAPER_MODEL_THICKNESS_1KPA_MM], [1.0], "r^", label="paper model at 1 kPa")
+    for t, p in ((attrs["thickness_at_1kPa_mm"], 1.0), (attrs["thickness_at_18kPa_mm"], 18.0)):
+        if math.isfinite(t):
+            ax.plot([t], [p], "o", mfc="none", mec="C1")
+    ax.set_yscale("log")
+    ax.set_ylim(0.05, max(100.0, float(np.nanmax(group["pressure_kPa"])) * 1.2))
+    ax.set_xlabel("thickness = plate gap (mm)")
+    ax.set_ylabel("pressure (kPa)")
+    ax.set_title(f"compaction at {attrs['plate_speed_m_s']:.3g} m/s")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    path = directory / "figures" / "compaction.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return [path]

@@ -1,0 +1,74 @@
+"""Compaction scene (issue 4): plates close on the manufactured coarse cell."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import case_spec, copy_run
+
+from ncf2lammps import run, run_scenes
+from ncf2lammps.analysis.compaction import CompactionCurve, smooth
+from ncf2lammps.io.results import read_results
+
+#: A fast plate (10x the default inertial number): enough for the curve's shape and the
+#: bookkeeping; the rate dependence is measured separately (docs/compaction.md).
+FAST = {"inertial_number": 0.5, "final_fvf": 0.6}
+
+
+@pytest.fixture(scope="module")
+def compacted(coarse_manufactured, tmp_path_factory):
+    spec = case_spec("hpt310-coarse").replace(compaction=FAST)
+    folder = copy_run(coarse_manufactured, tmp_path_factory.mktemp("compaction") / "run")
+    results = run_scenes(spec, folder, ["compaction"])
+    return spec, folder, read_results(results)["compaction"]
+
+
+def test_contract_names_and_lengths(compacted):
+    _, folder, group = compacted
+    lengths = {len(group[k]) for k in ("gap_mm", "pressure_kPa", "fvf")}
+    assert len(lengths) == 1 and lengths.pop() > 50
+    for key in ("thickness_at_1kPa_mm", "thickness_at_18kPa_mm", "fvf_at_18kPa", "wall_s", "steps", "max_kinetic_ratio"):
+        assert key in group["attrs"]
+    deck = (folder / "decks" / "in.compaction.lmp").read_text()
+    for absent in ("deform", "adapt", "needle", "wall/region "):
+        assert absent not in deck
+
+
+def test_pressure_rises_monotonically_after_smoothing(compacted):
+    """Closing plates on a frictional granular layer: the smoothed pressure never drops by more
+    than 10 % of the running maximum once it exceeds 1 kPa (dynamic ripple aside)."""
+    _, _, group = compacted
+    pressure = smooth(group["pressure_kPa"], 15)
+    loaded = pressure > 1.0
+    running_max = np.maximum.accumulate(pressure)
+    assert np.all(pressure[loaded] >= 0.9 * running_max[loaded])
+    assert pressure[-1] > 18.0  # Vf 0.6 is far past the 18 kPa of the experiment
+
+
+def test_interpolated_attributes_agree_with_curve(compacted):
+    """t@1 kPa, t@18 kPa lie on the recorded (smoothed) curve; Vf = A / (rho t)."""
+    _, _, group = compacted
+    attrs = group["attrs"]
+    gap, smoothed = group["gap_mm"], group["pressure_smoothed_kPa"]
+    for key, pressure in (("thickness_at_1kPa_mm", 1.0), ("thickness_at_18kPa_mm", 18.0)):
+        t = attrs[key]
+        assert gap.min() <= t <= gap.max()
+        i = np.searchsorted(-gap, -t)
+        assert smoothed[i - 1] <= pressure <= smoothed[i] + 1e-12
+    assert attrs["thickness_at_18kPa_mm"] < attrs["thickness_at_1kPa_mm"]
+    fvf = np.interp(-attrs["thickness_at_18kPa_mm"], -gap, group["fvf"])
+    assert attrs["fvf_at_18kPa"] == pytest.approx(fvf, rel=1e-3)
+    np.testing.assert_allclose(group["fvf"] * gap, group["fvf"][0] * gap[0], rtol=1e-12)
+
+
+def test_curve_thickness_at_is_exact_on_a_line():
+    curve = CompactionCurve([1.0, 0.9, 0.8, 0.7], [0.0, 1.0, 2.0, 3.0], 0.3, window=1).compute()
+    assert curve.thickness_at(1.5) == pytest.approx(0.85)
+    assert np.isnan(curve.thickness_at(10.0))
+
+
+def test_mat_only_compacts_without_manufacture(tmp_path):
+    spec = case_spec("mat-only").replace(compaction={"inertial_number": 0.5, "final_fvf": 0.5})
+    results = read_results(run(spec, tmp_path / "run"))
+    assert "manufacture" not in results
+    assert results["compaction"]["attrs"]["thickness_at_1kPa_mm"] > 0.3
