@@ -20,6 +20,21 @@ import numpy as np
 
 __all__ = ["Engine", "EngineError", "UnstableRunError", "lammps_version", "load_lammps"]
 
+_HALT = re.compile(r"fix-id guard_(\w+) met on step (\d+) with value (\S+)")
+_ADVICE = {
+    "speed": (
+        "a bead moved more than the allowed fraction of a diameter in one step",
+        "lower numerics.dt_fraction, the loading rate, or raise numerics.mass_scaling",
+    ),
+    "bond": (
+        "a bond stretched past 1.5 x the longest rest length",
+        "lower the loading rate or numerics.dt_fraction; check the stitch tension",
+    ),
+    "overlap": (
+        "two beads overlap by more than the allowed fraction of a diameter",
+        "raise contact.normal_stiffness_N_m or lower the loads/rates; check the time step margin",
+    ),
+}
 _STAGE = re.compile(r"^#\s*stage:\s*(\w+)")
 _RUN = re.compile(r"^run\s+(\d+)\s*$")
 
@@ -108,13 +123,27 @@ class Engine:
         self._cwd.__exit__(*exc)
 
     def command(self, line: str) -> None:
-        """Run one LAMMPS command; a LAMMPS error becomes :class:`EngineError`."""
+        """Run one LAMMPS command; a tripped guard becomes :class:`UnstableRunError` with a
+        diagnosis, any other LAMMPS error :class:`EngineError`."""
         try:
             self.lmp.command(line)
         except Exception as err:
-            raise EngineError(
-                f"LAMMPS error in '{line.split()[0] if line.split() else line}': {err}"
-            ) from None
+            message = str(err).splitlines()[0].removeprefix("ERROR on proc 0: ") if str(err) else ""
+            halt = _HALT.search(message)
+            if halt is not None:
+                what, advice = _ADVICE.get(halt.group(1), ("a guard tripped", "see the log"))
+                raise UnstableRunError(
+                    f"guard '{halt.group(1)}' at step {halt.group(2)} (value {halt.group(3)}):"
+                    f" {what}; {advice}"
+                ) from None
+            if "Lost atoms" in message or ("Bond atoms" in message and "missing" in message):
+                raise UnstableRunError(
+                    f"lost-atoms guard at step {self.step}: {message}; beads flew apart or left"
+                    " the box: lower numerics.dt_fraction or the loading rate (ncf2lammps check"
+                    " prints the stability margin)"
+                ) from None
+            command = line.split()[0] if line.split() else line
+            raise EngineError(f"LAMMPS error in '{command}': {message}") from None
 
     def file(self, path: str | os.PathLike) -> None:
         """Run a whole deck."""

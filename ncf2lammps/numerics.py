@@ -18,7 +18,28 @@ from . import units
 from .model import Model
 from .spec import FabricSpec, SpecError
 
-__all__ = ["STABLE_FRACTION", "ContactLaw", "TimeStep", "contact_law", "time_step"]
+__all__ = [
+    "GUARD_MAX_BOND_STRETCH",
+    "GUARD_MAX_OVERLAP",
+    "GUARD_MAX_STEP_MOVE",
+    "STABLE_FRACTION",
+    "ContactLaw",
+    "Guards",
+    "TimeStep",
+    "contact_law",
+    "guards",
+    "time_step",
+]
+
+#: Guard thresholds (DESIGN 8): a bead moving this fraction of the smallest diameter in one step,
+#: a bond this much longer than the longest rest length, a contact overlapping this fraction of
+#: the smallest diameter (hooke estimate F / k_n) mean the integration has gone unstable. The
+#: overlap limit is one whole small diameter (beads passing through each other): plates closing
+#: on the coarse stitched cell press the thin stitch yarn into the chains by half its diameter
+#: at Vf 0.55, a geometric squeeze of the model, not an instability (docs/contact.md).
+GUARD_MAX_STEP_MOVE = 0.02
+GUARD_MAX_BOND_STRETCH = 0.5
+GUARD_MAX_OVERLAP = 1.0
 
 #: Largest dt / sqrt(m/k) measured stable for crossing plies (DESIGN 8).
 STABLE_FRACTION = 0.8
@@ -117,4 +138,33 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
         )
     return TimeStep(
         limits, governing, critical, fraction * critical, fraction, STABLE_FRACTION / fraction
+    )
+
+
+@dataclass(frozen=True)
+class Guards:
+    """Stability guard settings rendered into every scene deck (``fix halt ... error hard``).
+
+    Attributes: ``every`` (steps between checks); ``diameter`` = smallest bead diameter (um);
+    ``contact_stiffness`` (nN/um) to turn the largest pair force into an overlap;
+    ``max_step_move`` and ``max_overlap`` (fractions of ``diameter``); ``max_bond_length`` (um).
+    """
+
+    every: int
+    diameter: float
+    contact_stiffness: float
+    max_step_move: float
+    max_overlap: float
+    max_bond_length: float
+
+
+def guards(spec: FabricSpec, model: Model) -> Guards:
+    """The guards of a model: thresholds from :data:`GUARD_MAX_STEP_MOVE` and friends."""
+    return Guards(
+        every=spec.numerics.guard_every,
+        diameter=float(model.diameter.min()),
+        contact_stiffness=contact_law(spec, model).stiffness,
+        max_step_move=GUARD_MAX_STEP_MOVE,
+        max_overlap=GUARD_MAX_OVERLAP,
+        max_bond_length=(1.0 + GUARD_MAX_BOND_STRETCH) * max(t.r0 for t in model.bond_types),
     )

@@ -106,7 +106,7 @@ class PlySpec:
         150.0, 0.0, 5000.0, lo_open=True, unit="g/m2", source="HPT 310 datasheet-typical 2 x 150"
     )
     density_g_cm3: float = _f(1.80, 0.0, 25.0, lo_open=True, unit="g/cm3", source="carbon, paper")
-    E_GPa: float = _f(240.0, 0.0, 2000.0, lo_open=True, unit="GPa", source="carbon HT, typical")
+    E_GPa: float = _f(240.0, 0.0, 1e4, lo_open=True, unit="GPa", source="carbon HT, typical")
 
 
 @dataclass(frozen=True)
@@ -175,7 +175,7 @@ class ContactSpec:
     friction: float = _f(0.30, 0.0, 2.0, unit="-", source="paper")
     normal_model: str = _f("hooke", choices=("hooke", "hertz"), source="model choice")
     normal_stiffness_N_m: float = _f(
-        1.0e5, 1.0, 1.0e9, unit="N/m", source="overlap < 1 % of d at 0.1 N (hooke)"
+        1.0e6, 1.0, 1.0e9, unit="N/m", source="docs/contact.md: below the stitch bond's EA/s"
     )
     contact_modulus_GPa: float = _f(
         1.0, 1e-4, 500.0, unit="GPa", source="transverse bundle modulus, model choice (hertz)"
@@ -195,6 +195,7 @@ class NumericsSpec:
     mass_scaling: float = _f(1.0, 1.0, 1e12, unit="-", source="none")
     neighbor_skin_um: float | None = _f(None, 0.01, 1e4, unit="um", source="None: d/10, >= 1 um")
     thermo_every: int = _f(1000, 1, 10**9, unit="steps", source="output cadence")
+    guard_every: int = _f(100, 1, 10**9, unit="steps", source="stability guard cadence")
 
 
 @dataclass(frozen=True)
@@ -237,8 +238,9 @@ class ShearSpec:
 
     final_angle_deg: float = _f(45.0, 1.0, 60.0, unit="deg", source="paper Fig. 6")
     shear_rate_deg_us: float | None = _f(
-        None, 1e-9, 1.0, unit="deg/us", source="None: from kinetic_ratio_target"
+        None, 1e-9, 1.0, unit="deg/us", source="None: from inertial_number"
     )
+    inertial_number: float = _f(0.025, 1e-5, 1.0, unit="-", source="docs/shear.md")
     kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="DESIGN 8: < 1 %")
     fibre_pretension_N_m: float = _f(
         0.0, 0.0, 1000.0, unit="N/m", source="per unit width of each ply; paper frame: 22"

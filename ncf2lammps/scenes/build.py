@@ -17,7 +17,7 @@ from ..io.datafile import write_data
 from ..io.deck import render
 from ..io.spectoml import write_spec
 from ..model import Model, build_model
-from ..numerics import ContactLaw, TimeStep, contact_law, time_step
+from ..numerics import ContactLaw, TimeStep, contact_law, guards, time_step
 from ..spec import FabricSpec
 
 __all__ = [
@@ -84,6 +84,7 @@ def deck_context(spec: FabricSpec, model: Model, scene: str, data_file: str = "m
         "skin": skin,
         "comm_cutoff": float(model.diameter.max()) + skin + 1.5 * longest_bond,
         "thermo_every": spec.numerics.thermo_every,
+        "guards": guards(spec, model),
     }
 
 

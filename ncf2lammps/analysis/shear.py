@@ -1,0 +1,64 @@
+"""Picture-frame shear curves: normalised shear force against shear angle (pure numpy).
+
+Kinematics (DESIGN 7): edge a = La e_x, edge b = Lb (sin g, cos g), so ``xy = Lb sin g``,
+``ly = Lb cos g``. The normalised picture-frame force is the power per unit current area per
+unit shear rate, from the virial stress (``compute pressure NULL virial``, kPa):
+``F_N = -(Pxy - Pyy xy / ly) lz``; independently, from the work of the box on the cell over a
+recording interval, ``dW = -lx lz (Pxy dxy + Pyy dly) = lx (Nxy dxy + Nyy dly)`` with the
+membrane forces ``N = -P lz``, and ``F_N = dW / (lx ly dg)``. Inputs and outputs are in LAMMPS
+micro units (um, kPa; kPa um = nN/um = 1e-3 N/m).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["ShearCurve"]
+
+
+class ShearCurve:
+    """Loading curve of a picture-frame shear; ``compute()`` then read the attributes.
+
+    Args:
+        angle: (N + 1,) shear angle g at the start and at the end of each interval (rad).
+        xy, lx, ly: (N + 1,) box tilt and edge lengths at the same instants (um).
+        force: (N,) interval means of the virial ``F_N`` (nN/um).
+        nxy, nyy: (N,) interval means of the membrane forces ``-Pxy lz``, ``-Pyy lz`` (nN/um).
+        kinetic: (N,) interval means of the kinetic energy (pg um^2/us^2).
+
+    After :meth:`compute` (all (N,), at the interval mid-angles): ``mid_angle`` (rad),
+    ``force`` (virial, nN/um), ``force_work`` (work-based, nN/um), ``work`` (cumulative external
+    work at each interval's end, pg um^2/us^2), ``kinetic_ratio`` (kinetic energy / work).
+    """
+
+    def __init__(self, angle, xy, lx, ly, force, nxy, nyy, kinetic):
+        self.angle = np.asarray(angle, dtype=float)
+        self.xy, self.lx, self.ly = (np.asarray(v, dtype=float) for v in (xy, lx, ly))
+        self.force = np.asarray(force, dtype=float)
+        self.nxy = np.asarray(nxy, dtype=float)
+        self.nyy = np.asarray(nyy, dtype=float)
+        self.kinetic = np.asarray(kinetic, dtype=float)
+
+    def compute(self) -> ShearCurve:
+        """Work-based force per interval, cumulative work and kinetic ratio."""
+        d_angle = np.diff(self.angle)
+        lx = 0.5 * (self.lx[1:] + self.lx[:-1])
+        area = lx * 0.5 * (self.ly[1:] + self.ly[:-1])
+        d_work = lx * (self.nxy * np.diff(self.xy) + self.nyy * np.diff(self.ly))
+        self.mid_angle = 0.5 * (self.angle[1:] + self.angle[:-1])
+        self.force_work = d_work / (area * d_angle)
+        self.work = np.cumsum(d_work)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            self.kinetic_ratio = self.kinetic / np.abs(self.work)
+        return self
+
+    def force_at(self, angle: float) -> float:
+        """Virial ``F_N`` (nN/um) interpolated at ``angle`` (rad); NaN outside the record."""
+        if len(self.mid_angle) == 0 or not self.angle[0] <= angle <= self.angle[-1]:
+            return float("nan")
+        return float(np.interp(angle, self.mid_angle, self.force))
+
+    def max_kinetic_ratio(self, from_angle: float) -> float:
+        """Largest kinetic energy / external work once the angle has passed ``from_angle`` (rad)."""
+        loaded = self.mid_angle >= from_angle
+        return float(np.max(self.kinetic_ratio[loaded])) if np.any(loaded) else float("nan")

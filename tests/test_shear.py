@@ -1,0 +1,139 @@
+"""Shear scene (issue 5): picture-frame kinematics on the periodic box, normalised shear force."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import case_spec, copy_run
+
+from ncf2lammps import build_model, run, run_scenes
+from ncf2lammps.io.lammpslog import read_ave_time
+from ncf2lammps.io.results import read_results
+from ncf2lammps.scenes.report import write_report
+from ncf2lammps.scenes.shear import shear_rate
+from ncf2lammps.spec import SpecError
+
+#: Test rate on the coarse case (deg/us): I = 0.4, 16 x the default, to keep the run ~1 minute.
+COARSE_TEST_RATE = 0.085
+
+
+def _binned(angle_deg, values, width_deg=1.0):
+    """Means of ``values`` over bins of ``width_deg`` of the angle, (B,)."""
+    bins = np.floor(angle_deg / width_deg).astype(int)
+    return np.bincount(bins, values) / np.maximum(np.bincount(bins), 1)
+
+
+@pytest.fixture(scope="module")
+def frictionless_mat(tmp_path_factory):
+    """(spec, folder, /shear group) of the mat without stitch, mu = 0, pretension 22 N/m, 30 deg."""
+    spec = case_spec("mat-only").replace(
+        contact={"friction": 0.0},
+        shear={"final_angle_deg": 30.0, "fibre_pretension_N_m": 22.0, "shear_rate_deg_us": 0.1},
+    )
+    folder = tmp_path_factory.mktemp("mat") / "run"
+    results = read_results(run(spec, folder, scenes=["shear"]))
+    return spec, folder, results["shear"]
+
+
+def test_frictionless_pretensioned_mat_has_no_shear_force(frictionless_mat):
+    """Straight chains keep their length under picture-frame kinematics: F_N = 0 (DESIGN 7).
+
+    Scale: N0 = 22 N/m, the pretension per unit width of each ply (chain tension times chains
+    per width); the pretension itself is checked in the virial, N_yy = -Pyy lz = N0 at g = 0.
+    """
+    spec, folder, group = frictionless_mat
+    n0 = spec.shear.fibre_pretension_N_m
+    assert np.max(np.abs(group["force_N_per_m"])) < 0.01 * n0
+    assert np.max(np.abs(group["force_work_N_per_m"])) < 0.01 * n0
+    stress = read_ave_time(folder / "shear.history.txt")
+    assert stress["v_nyy"][0] * 1e-3 == pytest.approx(n0, rel=0.01)  # kPa um = 1e-3 N/m
+    assert group["attrs"]["final_angle_deg"] == pytest.approx(30.0, abs=0.05)
+
+
+def test_box_follows_picture_frame_kinematics(frictionless_mat):
+    """xy = Lb sin g and ly = Lb cos g through every chunk and run (to one step's increment)."""
+    _, folder, _ = frictionless_mat
+    box = read_ave_time(folder / "shear.box.txt")
+    lb = box["v_box_ly"][0]
+    per_step = np.max(np.abs(np.diff(box["v_box_xy"]))) / np.diff(box["TimeStep"]).max()
+    assert np.max(np.abs(box["v_box_xy"] - lb * np.sin(box["v_g"]))) < 1.5 * per_step
+    assert np.max(np.abs(box["v_box_ly"] - lb * np.cos(box["v_g"]))) < 1.5 * per_step
+    assert np.all(box["v_box_lx"] == box["v_box_lx"][0])
+
+
+@pytest.fixture(scope="module")
+def coarse_sheared(coarse_manufactured, tmp_path_factory):
+    """(folder, results) of the manufactured coarse case sheared to 45 deg at the test rate."""
+    folder = copy_run(coarse_manufactured, tmp_path_factory.mktemp("shear") / "run")
+    spec = case_spec("hpt310-coarse").replace(shear={"shear_rate_deg_us": COARSE_TEST_RATE})
+    run_scenes(spec, folder, ["shear"])
+    write_report(folder)
+    return folder, read_results(folder / "results.h5")
+
+
+def test_results_follow_the_contract(coarse_sheared):
+    folder, results = coarse_sheared
+    group = results["shear"]
+    for key in ("force_at_45deg_N_per_m", "wall_s", "steps", "max_kinetic_ratio"):
+        assert np.isfinite(group["attrs"][key])
+    names = ("angle_deg", "force_N_per_m", "force_work_N_per_m", "kinetic_ratio", "work_J")
+    assert len({len(group[k]) for k in names}) == 1 and len(group["angle_deg"]) > 100
+    assert group["angle_deg"][-1] == pytest.approx(45.0, abs=0.2)
+    for name in ("shear_22.5deg.data", "shear_45deg.data"):
+        assert (folder / name).is_file()
+    for name in ("shear_force.png", "shear_views_22.5deg.png", "shear_views_45deg.png"):
+        assert (folder / "figures" / name).stat().st_size > 10_000
+
+
+def test_virial_and_work_forces_agree(coarse_sheared):
+    """F_N from the virial and from the box work agree within 2 % (1-degree means, loaded)."""
+    _, results = coarse_sheared
+    group = results["shear"]
+    virial = _binned(group["angle_deg"], group["force_N_per_m"])
+    work = _binned(group["angle_deg"], group["force_work_N_per_m"])
+    loaded = np.abs(virial) > 0.1 * np.abs(virial).max()
+    assert np.max(np.abs(work[loaded] / virial[loaded] - 1)) < 0.02
+    total_virial = np.trapezoid(group["force_N_per_m"], group["angle_deg"])
+    total_work = np.trapezoid(group["force_work_N_per_m"], group["angle_deg"])
+    assert total_work == pytest.approx(total_virial, rel=0.02)
+
+
+def test_shear_deck_holds_only_its_commands(coarse_sheared):
+    folder, _ = coarse_sheared
+    deck = (folder / "decks" / "in.shear.lmp").read_text()
+    assert "read_restart    manufactured.restart" in deck
+    for absent in ("wall/", "fix             pretension", "adapt", "needle", "langevin", "shell"):
+        assert absent not in deck
+
+
+@pytest.mark.slow
+def test_halving_the_rate_moves_the_force_less_than_5_percent(coarse_manufactured, tmp_path):
+    """Quasi-static at the derived default rate: F_N(45 deg) moves < 5 % at half the rate."""
+    spec = case_spec("hpt310-coarse")
+    default = math.degrees(shear_rate(spec, build_model(spec)))
+    forces = []
+    for name, rate in (("default", default), ("half", default / 2)):
+        folder = copy_run(coarse_manufactured, tmp_path / name)
+        run_scenes(spec.replace(shear={"shear_rate_deg_us": rate}), folder, ["shear"])
+        attrs = read_results(folder / "results.h5")["shear"]["attrs"]
+        forces.append(attrs["force_at_45deg_N_per_m"])
+    assert forces[1] == pytest.approx(forces[0], rel=0.05)
+
+
+def test_shear_rate_is_derived_or_given():
+    spec = case_spec("hpt310-coarse")
+    model = build_model(spec)
+    derived = shear_rate(spec, model)
+    quieter = shear_rate(spec.replace(shear={"inertial_number": 0.0125}), model)
+    assert quieter == pytest.approx(derived / 2)
+    given = spec.replace(shear={"shear_rate_deg_us": 0.01})
+    assert shear_rate(given, model) == pytest.approx(math.radians(0.01))
+
+
+def test_bad_shear_input_names_the_field():
+    with pytest.raises(SpecError, match=r"shear.final_angle_deg"):
+        case_spec("mat-only").replace(shear={"final_angle_deg": 75.0})
+    with pytest.raises(SpecError, match=r"shear.fibre_pretension_N_m"):
+        case_spec("mat-only").replace(shear={"fibre_pretension_N_m": -1.0})
