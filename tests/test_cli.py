@@ -71,3 +71,16 @@ def test_build_writes_folder_and_refuses_to_overwrite(tmp_path):
 def test_every_verb_has_help():
     for verb in ("check", "build"):
         assert cli(verb, "--help").returncode == 0
+
+
+def test_run_with_relative_output_folder(tmp_path):
+    """The README runs with a relative -o: the whole chain must resolve it once."""
+    spec = tmp_path / "spec.toml"
+    spec.write_text(
+        (ROOT / "runs" / "mat-only" / "spec.toml").read_text()
+        + "\n[compaction]\ninertial_number = 0.5\nfinal_fvf = 0.4\n"
+    )
+    out = cli("run", "spec.toml", "-o", "out", "--scene", "compaction", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "out" / "summary.md").is_file()
+    assert (tmp_path / "out" / "figures" / "compaction.png").is_file()

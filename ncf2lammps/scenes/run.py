@@ -52,8 +52,12 @@ def run_scenes(spec: FabricSpec, directory: str | os.PathLike, scenes: Sequence[
     settings (rates, targets) may differ, e.g. to run a test again at another rate on the same
     manufactured state.
     """
-    directory = Path(directory)
+    directory = Path(directory).resolve()
     model = build_model(spec)
+    if (folder_atoms := _count_atoms(directory)) != model.n_atoms:
+        raise SpecError(
+            "<spec>", "...", f"describes {model.n_atoms} beads, the folder {folder_atoms}"
+        )
     results = directory / "results.h5"
     for scene in scenes:
         values = deck_context(spec, model, scene)
@@ -61,10 +65,6 @@ def run_scenes(spec: FabricSpec, directory: str | os.PathLike, scenes: Sequence[
         (directory / "decks" / f"in.{scene}.lmp").write_text(render(f"{scene}.lmp.j2", **values))
         start = time.perf_counter()
         with Engine(directory, log=f"log.{scene}.lammps") as engine, Progress(scene) as bar:
-            if (folder_atoms := _count_atoms(directory)) != model.n_atoms:
-                raise SpecError(
-                    "<spec>", "...", f"describes {model.n_atoms} beads, the folder {folder_atoms}"
-                )
             attrs, datasets = scene_module(scene).execute(engine, spec, model, bar.update)
         attrs["wall_s"] = time.perf_counter() - start
         write_scene(results, scene, attrs, datasets)
