@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from ncf2lammps.scenes.validation import CASES, run_case
+from ncf2lammps.scenes.validation.crossover import analytic_fn
 from ncf2lammps.scenes.validation.sliding import roughness_estimate
 
 
@@ -56,6 +58,26 @@ def test_shear_identities(tmp_path):
     assert zero.measured < 0.01  # |F_N| / N0
     for check in (work, energy, analytic):
         assert abs(check.measured / check.expected - 1) <= 0.02, check
+
+
+def test_shear_crossover_springs(tmp_path):
+    """Case 5c: F_N = 2 K g / (p^2 cos g) within 1 %, virial and work agree within 2 %."""
+    result = run_case("crossover", tmp_path)
+    rows = _rows(result)
+    for angle in (10, 20, 30, 40):
+        for what in ("virial", "work"):
+            check = rows[f"F_N {what} at {angle} deg"]
+            assert abs(check.measured / check.expected - 1) <= 0.01, check
+    assert rows["F_N work / F_N virial, worst interval"].measured <= 1.02
+    assert all(c.passed for c in result.checks)
+
+
+def test_crossover_law_is_the_energy_derivative():
+    """F_N = dW / (lx ly dg) with W = n K g^2, lx ly = n p^2 cos g (finite difference)."""
+    k, p, n, g, h = 3.0, 2.0, 9, 0.5, 1e-6
+    energy = n * k * np.array([g - h, g + h]) ** 2
+    expected = (energy[1] - energy[0]) / (2 * h) / (n * p**2 * math.cos(g))
+    assert analytic_fn(g, k, p) == pytest.approx(expected, rel=1e-8)
 
 
 def test_packing_limit(tmp_path):

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ...spec import SpecError
-from . import capstan, hertz, packing, shear, sliding, waves
+from . import capstan, crossover, hertz, packing, shear, sliding, waves
 from .common import CaseResult, Check
 from .report import table_lines, write_markdown
 
@@ -27,6 +27,7 @@ CASES = {
     "sliding": sliding,
     "capstan": capstan,
     "shear": shear,
+    "crossover": crossover,
     "packing": packing,
 }
 #: Cases of the fast subset (``full=False`` runs each of them in its short form).
