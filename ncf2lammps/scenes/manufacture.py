@@ -47,7 +47,7 @@ __all__ = [
 
 #: Time-averaging window of the convergence check, in controller invocations.
 WINDOW = 20
-#: Controller invocations per damping... steps between controller updates.
+#: Steps between controller updates and convergence samples.
 CONTROL_EVERY = 10
 
 
