@@ -28,6 +28,7 @@ __all__ = [
     "TimeStep",
     "contact_law",
     "guards",
+    "inertial_strain_rate",
     "time_step",
 ]
 
@@ -170,3 +171,16 @@ def guards(spec: FabricSpec, model: Model) -> Guards:
         max_overlap=GUARD_MAX_OVERLAP,
         max_bond_length=(1.0 + GUARD_MAX_BOND_STRETCH) * max(t.r0 for t in model.bond_types),
     )
+
+
+def inertial_strain_rate(model: Model, inertial_number: float, pressure: float) -> float:
+    """Strain rate (1/us) of a given inertial number ``I = gdot d sqrt(rho / P)``.
+
+    ``d`` is the mean fibre bead diameter, ``rho`` the mean fibre density and ``P`` (kPa) the
+    confining pressure: ``gdot = I sqrt(P / rho) / d``. The compaction and shear scenes derive
+    their loading rates from it.
+    """
+    fibre = model.role_mask("fibre")
+    rho = float(np.mean([t.density for t in model.atom_types if t.role == "fibre"]))
+    d = float(model.diameter[fibre].mean())
+    return inertial_number * float(np.sqrt(pressure / rho)) / d

@@ -26,7 +26,7 @@ from ..analysis.compaction import CompactionCurve
 from ..engine import Engine
 from ..io.lammpslog import read_ave_time
 from ..model import Model
-from ..numerics import contact_law, time_step
+from ..numerics import contact_law, inertial_strain_rate, time_step
 from ..spec import FabricSpec
 
 __all__ = [
@@ -63,11 +63,8 @@ def plate_speed(spec: FabricSpec, model: Model) -> float:
     settings = spec.compaction
     if settings.plate_speed_m_s is not None:
         return units.to_micro(settings.plate_speed_m_s, "m_s")
-    fibre = model.role_mask("fibre")
-    rho = float(np.mean([t.density for t in model.atom_types if t.role == "fibre"]))
-    d = float(model.diameter[fibre].mean())
     pressure = units.to_micro(settings.reference_pressure_kPa, "kPa")
-    return settings.inertial_number * model.mat_thickness * math.sqrt(pressure / rho) / d
+    return model.mat_thickness * inertial_strain_rate(model, settings.inertial_number, pressure)
 
 
 def _final_gap(spec: FabricSpec, model: Model) -> float:

@@ -27,7 +27,7 @@ from ..engine import Engine
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time
 from ..model import Model
-from ..numerics import time_step
+from ..numerics import inertial_strain_rate, time_step
 from ..spec import FabricSpec
 
 __all__ = [
@@ -81,11 +81,8 @@ def shear_rate(spec: FabricSpec, model: Model) -> float:
     settings = spec.shear
     if settings.shear_rate_deg_us is not None:
         return math.radians(settings.shear_rate_deg_us)
-    fibre = model.role_mask("fibre")
-    rho = float(np.mean([t.density for t in model.atom_types if t.role == "fibre"]))
-    d = float(model.diameter[fibre].mean())
     pressure = units.to_micro(REFERENCE_PRESSURE_KPA, "kPa")
-    return settings.inertial_number * math.sqrt(pressure / rho) / d
+    return inertial_strain_rate(model, settings.inertial_number, pressure)
 
 
 def _pretension_bonds(spec: FabricSpec, model: Model) -> list[tuple[int, float, float]]:
