@@ -19,7 +19,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 from .. import __version__
-from ..engine import Engine
+from ..engine import Engine, lammps_version
 from ..io.deck import render
 from ..io.results import mark_complete, write_root, write_scene
 from ..io.spectoml import dumps_spec
@@ -91,13 +91,11 @@ def run(
     wanted = scenes_to_run(spec, scenes)
     built = build(spec, directory, force=force)
     results = built.directory / "results.h5"
-    with Engine(built.directory, log=None) as engine:
-        lammps_version = str(engine.lmp.version())
     write_root(
         results,
         {
             "ncf2lammps_version": __version__,
-            "lammps_version": lammps_version,
+            "lammps_version": lammps_version(),
             "spec_toml": dumps_spec(spec),
             "n_atoms": built.model.n_atoms,
             "n_bonds": built.model.n_bonds,
