@@ -12,7 +12,7 @@ import sys
 from . import __version__, units
 from .engine import EngineError
 from .model import build_model
-from .numerics import STABLE_FRACTION, contact_law, time_step
+from .numerics import STABLE_FRACTION, contact_law, simulated_model, time_step
 from .scenes.build import SCENES, OutputExistsError, build
 from .scenes.report import write_report
 from .scenes.run import run
@@ -43,14 +43,17 @@ def _check(args) -> int:
             f"needles       {len(model.needle_points)} per cell, diameter {model.needle_diameter:.4g} um,"
             f" lapping {spec.stitch.notation}"
         )
-    for bond_type in model.bond_types:
+    simulated = simulated_model(spec, model)
+    for bond_type in simulated.bond_types:
         lines.append(
             f"  bond {bond_type.name:<20} K = {bond_type.k:.4g} nN/um  r0 = {bond_type.r0:.5g} um"
             f"  EA = {units.from_micro(bond_type.axial_stiffness, 'N'):.4g} N"
         )
-    mass = model.mass
+    mass = simulated.mass
+    numerics = spec.numerics
     lines += [
-        f"bead mass     {mass.min():.4g} .. {mass.max():.4g} pg (mass scaling {spec.numerics.mass_scaling:g})",
+        f"bead mass     {mass.min():.4g} .. {mass.max():.4g} pg (mass scaling {numerics.mass_scaling:g},"
+        f" fibre stiffness scaling {numerics.fibre_stiffness_scaling:g})",
         f"contact       {law.model}: k_n = {units.from_micro(law.stiffness, 'N_m'):.4g} N/m, mu = {law.friction:g}",
         "stability     sqrt(m/k) per limit (us):",
     ]

@@ -5,12 +5,17 @@ Velocity Verlet on a spring of stiffness ``k`` between beads of mass ``m`` is st
 chain stayed stable up to 1.0 sqrt(m/k), two crossing plies up to 0.8; so the stable fraction is
 :data:`STABLE_FRACTION` and the default is ``dt_fraction = 0.5`` of the smallest limit, where
 ``k`` covers every bond type (``k = EA / r0 = 2 K``) and the contact law at its expected overlap.
-Mass scaling by ``f`` multiplies every limit by ``sqrt(f)``.
+Two numerical scalings trade inertia and fibre stretch for larger steps (docs/performance.md):
+``numerics.mass_scaling`` multiplies every bead mass (every limit grows by its square root; the
+loading rates keep using the physical density, so the run is that much more dynamic) and
+``numerics.fibre_stiffness_scaling`` multiplies the fibre bonds' axial stiffness (their limit
+grows by its inverse square root; fibres stretch that much more). :func:`simulated_model` applies
+both; every limit here is computed on it.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -29,6 +34,7 @@ __all__ = [
     "contact_law",
     "guards",
     "inertial_strain_rate",
+    "simulated_model",
     "time_step",
 ]
 
@@ -51,6 +57,22 @@ STABLE_FRACTION = 0.8
 HERTZ_REFERENCE_OVERLAP = 0.05
 
 
+def simulated_model(spec: FabricSpec, model: Model) -> Model:
+    """The model LAMMPS integrates: bead densities x ``mass_scaling`` and fibre bond stiffness
+    (K and EA) x ``fibre_stiffness_scaling``. Atom types keep their physical densities."""
+    numerics = spec.numerics
+    if numerics.mass_scaling == 1.0 and numerics.fibre_stiffness_scaling == 1.0:
+        return model
+    stiffness = numerics.fibre_stiffness_scaling
+    bond_types = tuple(
+        replace(t, k=t.k * stiffness, axial_stiffness=t.axial_stiffness * stiffness)
+        if t.role == "fibre"
+        else t
+        for t in model.bond_types
+    )
+    return replace(model, density=model.density * numerics.mass_scaling, bond_types=bond_types)
+
+
 @dataclass(frozen=True)
 class ContactLaw:
     """Contact parameters in LAMMPS units for ``pair_style granular``.
@@ -70,10 +92,11 @@ class ContactLaw:
 
 
 def contact_law(spec: FabricSpec, model: Model) -> ContactLaw:
-    """The contact law of ``spec`` evaluated for the lightest and smallest beads of ``model``."""
+    """The contact law of ``spec`` evaluated for the lightest and smallest beads of ``model``
+    (masses of the :func:`simulated_model`)."""
     contact = spec.contact
     d_min = float(model.diameter.min())
-    mass = model.mass * spec.numerics.mass_scaling
+    mass = simulated_model(spec, model).mass
     m_eff = float(mass.min()) / 2.0
     if contact.normal_model == "hooke":
         normal = units.to_micro(contact.normal_stiffness_N_m, "N_m")
@@ -117,10 +140,12 @@ class TimeStep:
 
 
 def time_step(spec: FabricSpec, model: Model) -> TimeStep:
-    """Critical and chosen time step; refuses a fraction above the stable one unless allowed."""
-    mass = model.mass * spec.numerics.mass_scaling
+    """Critical and chosen time step of the :func:`simulated_model`; refuses a fraction above
+    the stable one unless allowed."""
+    simulated = simulated_model(spec, model)
+    mass = simulated.mass
     limits: dict[str, float] = {}
-    for index, bond_type in enumerate(model.bond_types):
+    for index, bond_type in enumerate(simulated.bond_types):
         in_type = model.bond_type == index
         if not np.any(in_type):
             continue

@@ -192,7 +192,8 @@ class NumericsSpec:
 
     dt_fraction: float = _f(0.5, 0.0, 2.0, lo_open=True, unit="sqrt(m/k)", source="DESIGN 8")
     allow_unstable_dt: bool = _f(False, source="refuse dt above the stability limit")
-    mass_scaling: float = _f(1.0, 1.0, 1e12, unit="-", source="none")
+    mass_scaling: float = _f(1.0, 1.0, 1e6, unit="-", source="docs/performance.md")
+    fibre_stiffness_scaling: float = _f(1.0, 1e-4, 1.0, unit="-", source="docs/performance.md")
     neighbor_skin_um: float | None = _f(None, 0.01, 1e4, unit="um", source="None: d/10, >= 1 um")
     thermo_every: int = _f(1000, 1, 10**9, unit="steps", source="output cadence")
     guard_every: int = _f(100, 1, 10**9, unit="steps", source="stability guard cadence")

@@ -17,7 +17,7 @@ from ..io.datafile import write_data
 from ..io.deck import render
 from ..io.spectoml import write_spec
 from ..model import Model, build_model
-from ..numerics import ContactLaw, TimeStep, contact_law, guards, time_step
+from ..numerics import ContactLaw, TimeStep, contact_law, guards, simulated_model, time_step
 from ..spec import FabricSpec
 
 __all__ = [
@@ -105,7 +105,7 @@ def build(spec: FabricSpec, directory: str | os.PathLike, force: bool = False) -
     step = time_step(spec, model)
     final, partial = prepare_output(directory, force)
     try:
-        write_data(partial / "model.data", model)
+        write_data(partial / "model.data", simulated_model(spec, model))
         write_spec(partial / "spec.resolved.toml", spec)
         (partial / "decks").mkdir()
         decks = {}

@@ -27,7 +27,7 @@ from ..engine import Engine
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time
 from ..model import Model
-from ..numerics import inertial_strain_rate, time_step
+from ..numerics import inertial_strain_rate, simulated_model, time_step
 from ..spec import FabricSpec
 
 __all__ = [
@@ -126,7 +126,7 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
     segments, every = _stops(spec, model)
     return {
         "restart_file": "manufactured.restart" if spec.stitch is not None else None,
-        "pretension_bonds": _pretension_bonds(spec, model),
+        "pretension_bonds": _pretension_bonds(spec, simulated_model(spec, model)),
         "rate": shear_rate(spec, model),
         "segments": segments,
         "history_every": every,

@@ -1,0 +1,43 @@
+"""Time-step limits and the numerical scalings (mass, fibre stiffness) reach LAMMPS."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import tiny_spec
+
+from ncf2lammps import build_model
+from ncf2lammps.io.datafile import read_data
+from ncf2lammps.numerics import simulated_model, time_step
+from ncf2lammps.scenes.build import build
+
+
+@pytest.mark.parametrize("mass_scaling, stiffness_scaling", [(1.0, 1.0), (16.0, 1.0), (1.0, 0.04)])
+def test_scalings_reach_the_data_file_and_scale_the_limits(
+    mass_scaling, stiffness_scaling, tmp_path
+):
+    """sqrt(m/k) limits: every limit x sqrt(mass_scaling); fibre-bond limits x
+    1/sqrt(fibre_stiffness_scaling); the data file carries the scaled density and K
+    (relative tolerance 1e-12)."""
+    base = tiny_spec()
+    spec = base.replace(
+        numerics={"mass_scaling": mass_scaling, "fibre_stiffness_scaling": stiffness_scaling}
+    )
+    model = build_model(spec)
+    reference = time_step(base, model).limits
+    limits = time_step(spec, model).limits
+    for name, limit in limits.items():
+        fibre = name.startswith("bond ply")
+        expected = reference[name] * math.sqrt(mass_scaling / (stiffness_scaling if fibre else 1))
+        assert limit == pytest.approx(expected, rel=1e-12), name
+    data = read_data(build(spec, tmp_path / "run").directory / "model.data")
+    np.testing.assert_allclose(data.density, model.density * mass_scaling, rtol=1e-12)
+    simulated = simulated_model(spec, model)
+    np.testing.assert_allclose(
+        data.bond_coeffs[:, 0], [t.k for t in simulated.bond_types], rtol=1e-12
+    )
+    fibre_k = [t.k for t in simulated.bond_types if t.role == "fibre"]
+    physical_k = [t.k for t in model.bond_types if t.role == "fibre"]
+    np.testing.assert_allclose(fibre_k, np.multiply(physical_k, stiffness_scaling), rtol=1e-12)
