@@ -120,3 +120,27 @@ def plot_histories(time, series: list[tuple[str, np.ndarray, float | None, bool]
     np.atleast_1d(axes)[-1].set_xlabel("time (us)")
     fig.tight_layout()
     return fig
+
+
+def plot_study(wall_s, error, front, labels, tolerance: float, reference: int):
+    """Log-log maximum relative error against wall time, the Pareto front joined; returns the
+    figure. The reference point (error 0) is drawn on the lower edge."""
+    wall_s = np.asarray(wall_s, dtype=float)
+    error = np.asarray(error, dtype=float)
+    finite = np.isfinite(error) & (error > 0)
+    floor = 0.3 * float(error[finite].min()) if np.any(finite) else 1e-4
+    shown = np.where(np.isfinite(error), np.maximum(error, floor), np.nan)
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    ax.loglog(wall_s, shown, "o", c="0.6", label="study point")
+    order = np.flatnonzero(front)[np.argsort(wall_s[front])]
+    ax.loglog(wall_s[order], shown[order], "-o", c="C3", label="Pareto front")
+    ax.loglog(wall_s[reference], shown[reference], "s", c="k", label="reference (error 0)")
+    ax.axhline(tolerance, ls="--", c="k", lw=0.8, label=f"{tolerance:.0%} tolerance")
+    for x, y, text in zip(wall_s, shown, labels, strict=True):
+        if np.isfinite(y):
+            ax.annotate(text, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel("largest relative error of the outputs")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
