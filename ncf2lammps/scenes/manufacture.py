@@ -208,6 +208,7 @@ def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[d
         "stitch_tension_N": tension,
         "stitch_tension_target_N": target,
         "stitch_tension_error": (tension - target) / target,
+        "tension_tolerance": spec.manufacture.tension_tolerance,
         "kinetic_ratio": engine.variable("kinetic_ratio"),
         "kinetic_ratio_target": spec.manufacture.kinetic_ratio_target,
         **checks,

@@ -21,6 +21,47 @@ def _format(value) -> str:
     return str(value)
 
 
+#: Per-scene error indicators shown first in summary.md: (scene, attribute, attribute of its
+#: limit; "" when there is none).
+INDICATORS = (
+    ("manufacture", "stitch_tension_error", "tension_tolerance"),
+    ("manufacture", "kinetic_ratio", "kinetic_ratio_target"),
+    ("compaction", "max_kinetic_ratio", "kinetic_ratio_target"),
+    ("compaction", "plate_force_imbalance", ""),
+    ("shear", "max_kinetic_ratio", "kinetic_ratio_target"),
+    ("shear", "work_virial_max_deviation", ""),
+)
+
+
+def _indicator_lines(results: dict) -> list[str]:
+    """The error-indicator table: time-step margin, then each scene's checks, wall time, steps."""
+    root = results["attrs"]
+    lines = [
+        "## Error indicators",
+        "",
+        "| scene | indicator | value | limit |",
+        "|---|---|---|---|",
+    ]
+    if "dt_margin" in root:
+        lines.append(
+            f"| all | time step {_format(root['dt_us'])} us, margin to the stable limit"
+            f" ({_format(root['dt_governing'])}) | {_format(root['dt_margin'])} | > 1 |"
+        )
+    for scene in SCENES:
+        if scene not in results:
+            continue
+        attrs = results[scene]["attrs"]
+        for indicator_scene, key, limit_key in INDICATORS:
+            if indicator_scene == scene and key in attrs:
+                limit = _format(attrs[limit_key]) if limit_key in attrs else ""
+                lines.append(f"| {scene} | {key} | {_format(attrs[key])} | {limit} |")
+        lines.append(
+            f"| {scene} | wall time (s), steps | {_format(attrs.get('wall_s', float('nan')))},"
+            f" {_format(attrs.get('steps', ''))} | |"
+        )
+    return [*lines, ""]
+
+
 def write_report(directory: str | os.PathLike) -> list[Path]:
     """Write figures/*.png and summary.md for the run in ``directory``; returns the files."""
     directory = Path(directory)
@@ -39,6 +80,7 @@ def write_report(directory: str | os.PathLike) -> list[Path]:
         f" {_format(root['mpi_ranks'])} MPI rank(s), created {_format(root['created'])};"
         f" complete: {bool(root['complete'])}.",
         "",
+        *_indicator_lines(results),
     ]
     for scene, group in results.items():
         if scene == "attrs":
