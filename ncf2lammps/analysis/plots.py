@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import EllipseCollection
 
-__all__ = ["VIEWS", "plot_histories", "render_cell", "render_views"]
+__all__ = ["CAPTIONS", "VIEWS", "plot_histories", "render_cell", "render_views", "tile_cell"]
 
 #: View name -> (horizontal axis, vertical axis, depth axis, depth sign toward the viewer).
 VIEWS = {
@@ -22,14 +22,16 @@ VIEWS = {
     "back": (0, 1, 2, -1.0),  # underlap face, seen from -z (mirrored in x)
     "side": (0, 2, 1, -1.0),  # seen from -y
 }
+#: View name -> panel caption.
+CAPTIONS = {"front": "front (loop face)", "back": "back (underlap face)", "side": "side"}
 
 _COLOURS = np.array(
     [[0.15, 0.15, 0.15], [0.45, 0.45, 0.45], [0.85, 0.2, 0.1], [0.2, 0.4, 0.8], [0.3, 0.7, 0.3]]
 )
 
 
-def _tile(positions, box_lengths, tilt_xy, repeat):
-    """(N * rx * ry, 3) positions tiled over ``repeat`` cells of the (sheared) periodic box."""
+def tile_cell(positions, box_lengths, tilt_xy, repeat):
+    """(N * rx * ry, 3) positions tiled over ``repeat`` cells of the (sheared) box, and rx * ry."""
     rx, ry = repeat
     a = np.array([box_lengths[0], 0.0, 0.0])
     b = np.array([tilt_xy, box_lengths[1], 0.0])
@@ -56,7 +58,7 @@ def render_cell(
         repeat: cells tiled along the two box edges in the plane.
     """
     h, v, depth, sign = VIEWS[view]
-    tiled, copies = _tile(
+    tiled, copies = tile_cell(
         positions, box_lengths, tilt_xy, repeat if view != "side" else (repeat[0], 1)
     )
     size = np.tile(diameter, copies)
@@ -94,10 +96,7 @@ def render_views(positions, diameter, colour_index, box_lengths, title: str, til
     fig, axes = plt.subplots(3, 1, figsize=(11, 13), gridspec_kw={"height_ratios": [3, 3, 1.2]})
     for ax, view in zip(axes, ("front", "back", "side"), strict=True):
         render_cell(positions, diameter, colour_index, box_lengths, view, tilt_xy=tilt_xy, ax=ax)
-        ax.set_title(
-            f"{title}: {view}"
-            + {"front": " (loop face)", "back": " (underlap face)", "side": ""}[view]
-        )
+        ax.set_title(f"{title}: {CAPTIONS[view]}")
     fig.tight_layout()
     return fig
 
