@@ -23,9 +23,9 @@ import numpy as np
 from .. import units
 from ..analysis.plots import render_views
 from ..analysis.shear import ShearCurve
-from ..engine import Engine
+from ..engine import Checkpoints, Engine
 from ..io.datafile import read_data
-from ..io.lammpslog import read_ave_time
+from ..io.lammpslog import read_ave_time, read_final
 from ..model import Model
 from ..numerics import inertial_strain_rate, simulated_model, time_step
 from ..spec import FabricSpec
@@ -35,6 +35,7 @@ __all__ = [
     "PAPER_MODEL_FORCE_45DEG_N_PER_M",
     "REFERENCE_PRESSURE_KPA",
     "applies",
+    "collect",
     "deck_values",
     "execute",
     "figures",
@@ -133,11 +134,18 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
     }
 
 
-def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[dict, dict]:
-    """Run decks/in.shear.lmp; return (attrs, datasets) for /shear."""
-    engine.run_deck("decks/in.shear.lmp", chunk=2000, on_chunk=progress)
-    stress = read_ave_time("shear.history.txt")
-    box = read_ave_time("shear.box.txt")
+def execute(
+    engine: Engine, spec: FabricSpec, model: Model, progress, checkpoint: Checkpoints | None = None
+) -> dict:
+    """Run decks/in.shear.lmp (on every rank); no attributes of its own."""
+    engine.run_deck("decks/in.shear.lmp", chunk=2000, on_chunk=progress, checkpoint=checkpoint)
+    return {}
+
+
+def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict]:
+    """(attrs, datasets) of /shear from the scene's files in ``directory``."""
+    stress = read_ave_time(directory / "shear.history.txt")
+    box = read_ave_time(directory / "shear.box.txt")
     curve = ShearCurve(
         box["v_g"],
         box["v_box_xy"],
@@ -153,7 +161,7 @@ def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[d
     work = units.from_micro(curve.force_work, "N_m")
     loaded = np.abs(force) > 0.1 * np.abs(force).max()
     attrs = {
-        "steps": engine.step,
+        "steps": int(read_final(directory / "shear.final.txt")["step"]),
         "force_at_45deg_N_per_m": units.from_micro(curve.force_at(math.pi / 4), "N_m"),
         "force_at_final_N_per_m": units.from_micro(curve.force_at(curve.angle[-1]), "N_m"),
         "max_kinetic_ratio": curve.max_kinetic_ratio(LOADED_FRACTION * final),
