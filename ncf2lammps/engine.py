@@ -477,6 +477,7 @@ class Engine:
                 break
             if every and self.step % every == 0:
                 journal.checkpoint(stage, number)
+                first = True  # write_restart migrates atoms: the next chunk needs its setup
 
     def _replay(self, journal: _Journal, chunk, on_chunk) -> tuple[str, int]:
         """Rebuild the state at the last checkpoint; returns (stage, next deck line).
