@@ -23,7 +23,7 @@ from .build import applicable_scenes, build, check_ranks
 
 __all__ = ["export"]
 
-_WALL_TIME = re.compile(r"^(\d+-)?\d{1,3}:[0-5]\d:[0-5]\d$")
+_WALL_TIME = re.compile(r"^(?:(\d+)-)?(\d{1,3}):([0-5]\d):([0-5]\d)$")
 _MODULE = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_./+-]*$")
 
 
@@ -41,7 +41,7 @@ def export(
     and ``modules`` (``module load`` names) parameterise job.slurm.
     """
     check_ranks(ranks)
-    if not _WALL_TIME.match(wall_time):
+    if (match := _WALL_TIME.match(wall_time)) is None:
         raise SpecError("--time", wall_time, "must read [D-]HH:MM:SS")
     for name in modules:
         if not _MODULE.match(name) or ".." in name:
@@ -51,7 +51,7 @@ def export(
         "version": __version__,
         "scenes": scenes,
         "ranks": ranks,
-        "wall_time": wall_time,
+        "wall_time": [int(part or 0) for part in match.groups()],
         "modules": list(modules),
         "dump_every": spec.output.dump_every_steps,
     }
