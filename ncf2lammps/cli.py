@@ -101,6 +101,20 @@ def _report(args) -> int:
     return 0
 
 
+def _study(args) -> int:
+    from .scenes.study import parse_vary, study
+
+    spec = load_spec(args.spec)
+    if not 0.0 < args.tolerance < 1.0:
+        raise SpecError("--tolerance", args.tolerance, "must be in (0, 1)")
+    vary = [parse_vary(text) for text in args.vary or []]
+    if not vary:
+        raise SpecError("--vary", None, "give at least one KNOB=V1,V2,...")
+    for path in study(spec, args.output, vary, args.scene, args.zip, args.tolerance):
+        print(f"wrote {path}")
+    return 0
+
+
 def _validate(args) -> int:
     from .scenes.validation import run_validation
 
@@ -163,6 +177,27 @@ def parser() -> argparse.ArgumentParser:
     report = verbs.add_parser("report", help="figures/ and summary.md from a run's results.h5")
     report.add_argument("directory", help="run folder with results.h5")
     report.set_defaults(func=_report)
+    study_cmd = verbs.add_parser(
+        "study", help="run scenes over a grid of numerical knobs; error against wall time"
+    )
+    study_cmd.add_argument("spec", help="spec TOML file")
+    study_cmd.add_argument("-o", "--output", required=True, help="study folder (new or a study's)")
+    study_cmd.add_argument(
+        "--vary",
+        action="append",
+        metavar="KNOB=V1,V2,...",
+        help="a knob and its values (repeat; e.g. shear.inertial_number=0.025,0.05)",
+    )
+    study_cmd.add_argument(
+        "--zip", action="store_true", help="pair the --vary lists by position (default: product)"
+    )
+    study_cmd.add_argument(
+        "--scene", action="append", choices=SCENES, help="scene to run (repeat; default: all)"
+    )
+    study_cmd.add_argument(
+        "--tolerance", type=float, default=0.03, help="error tolerance (default 0.03)"
+    )
+    study_cmd.set_defaults(func=_study)
     validate = verbs.add_parser(
         "validate", help="run the analytical validation cases; print and write the table"
     )

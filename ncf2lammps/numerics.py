@@ -5,6 +5,12 @@ Velocity Verlet on a spring of stiffness ``k`` between beads of mass ``m`` is st
 chain stayed stable up to 1.0 sqrt(m/k), two crossing plies up to 0.8; so the stable fraction is
 :data:`STABLE_FRACTION` and the default is ``dt_fraction = 0.5`` of the smallest limit, where
 ``k`` covers every bond type (``k = EA / r0 = 2 K``) and the contact law at its expected overlap.
+A bead feels its two bonds and its contacts at once: for each bead type the Gershgorin bound on
+the highest mode, ``omega^2 <= 2 (2 k_bond + Z (k_n + k_t)) / m`` with ``Z =``
+:data:`COORDINATION` contacts, gives the limit ``sqrt(2 m / (2 k_bond + Z (k_n + k_t)))``
+(``sqrt(m/k)`` for a bare chain). It governs when bond and contact limits are alike: the paper's
+cell with its fibre bonds softened to the contacts' stiffness heated up at dt = 0.5 of the
+single-spring limits, 1.03 x this one (kinetic / potential energy stuck at 0.7 under damping).
 Two numerical scalings trade inertia and fibre stretch for larger steps (docs/performance.md):
 ``numerics.mass_scaling`` multiplies every bead mass (every limit grows by its square root; the
 loading rates keep using the physical density, so the run is that much more dynamic) and
@@ -24,6 +30,7 @@ from .model import Model
 from .spec import FabricSpec, SpecError
 
 __all__ = [
+    "COORDINATION",
     "GUARD_MAX_BOND_STRETCH",
     "GUARD_MAX_OVERLAP",
     "GUARD_MAX_STEP_MOVE",
@@ -52,6 +59,10 @@ GUARD_MAX_OVERLAP = 1.0
 
 #: Largest dt / sqrt(m/k) measured stable for crossing plies (DESIGN 8).
 STABLE_FRACTION = 0.8
+
+#: Contacts a bead carries at once in the stability bound: the manufactured coarse cell has at
+#: most 5 beads overlapping one bead and 7 within 1.02 d (measured on its manufactured.data).
+COORDINATION = 6
 
 #: Overlap (fraction of the smaller diameter) at which a Hertz contact's stiffness is evaluated.
 HERTZ_REFERENCE_OVERLAP = 0.05
@@ -153,6 +164,18 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
         limits[f"bond {bond_type.name}"] = float(np.sqrt(m_min / (2.0 * bond_type.k)))
     law = contact_law(spec, model)
     limits["contact"] = float(np.sqrt(float(mass.min()) / law.stiffness))
+    contacts = COORDINATION * (law.stiffness + law.tangential)
+    bond_k = np.array([2.0 * t.k for t in simulated.bond_types])
+    for index, atom_type in enumerate(simulated.atom_types):
+        beads = simulated.type_id == index
+        if not np.any(beads):
+            continue
+        ends = beads[simulated.bonds].any(axis=1)
+        k_bond = float(bond_k[np.unique(simulated.bond_type[ends])].max()) if ends.any() else 0.0
+        m_min = float(mass[beads].min())
+        limits[f"bead {atom_type.name} (2 bonds + {COORDINATION} contacts)"] = float(
+            np.sqrt(2.0 * m_min / (2.0 * k_bond + contacts))
+        )
     governing = min(limits, key=limits.get)
     critical = limits[governing]
     fraction = spec.numerics.dt_fraction

@@ -120,7 +120,7 @@ class StitchSpec:
     stitch_length_mm: float = _f(2.8, 0.2, 20.0, unit="mm", source="paper")
     linear_density_dtex: float = _f(76.0, 1.0, 10000.0, unit="dtex", source="PES, typical NCF")
     density_g_cm3: float = _f(1.38, 0.5, 5.0, unit="g/cm3", source="PES")
-    E_GPa: float = _f(12.0, 0.01, 500.0, unit="GPa", source="PES yarn 10-15 GPa, typical")
+    E_GPa: float = _f(12.0, 0.01, 1e4, unit="GPa", source="PES yarn 10-15 GPa, typical")
     diameter_um: float | None = _f(
         None, 1.0, 2000.0, unit="um", source="None: solid-equivalent from dtex and density"
     )

@@ -14,13 +14,29 @@ from ncf2lammps.numerics import simulated_model, time_step
 from ncf2lammps.scenes.build import build
 
 
+def test_bead_limit_is_the_chain_limit_without_contacts_and_governs_with_them():
+    """Gershgorin: a bare chain bead gives sqrt(m/k); with COORDINATION contacts the bead limit
+    is below every single-spring limit of that bead."""
+    spec = tiny_spec()
+    model = build_model(spec)
+    step = time_step(spec, model)
+    assert step.governing.startswith("bead ")
+    singles = [v for k, v in step.limits.items() if not k.startswith("bead ")]
+    assert step.critical < min(singles)
+    soft = spec.replace(contact={"normal_stiffness_N_m": 1.0})  # contacts negligible
+    limits = time_step(soft, model).limits
+    fibre = next(t.name for t in model.atom_types if t.role == "fibre")
+    bead = next(v for k, v in limits.items() if k.startswith(f"bead {fibre}"))
+    assert bead == pytest.approx(limits[f"bond {fibre}"], rel=1e-6)
+
+
 @pytest.mark.parametrize("mass_scaling, stiffness_scaling", [(1.0, 1.0), (16.0, 1.0), (1.0, 0.04)])
 def test_scalings_reach_the_data_file_and_scale_the_limits(
     mass_scaling, stiffness_scaling, tmp_path
 ):
     """sqrt(m/k) limits: every limit x sqrt(mass_scaling); fibre-bond limits x
-    1/sqrt(fibre_stiffness_scaling); the data file carries the scaled density and K
-    (relative tolerance 1e-12)."""
+    1/sqrt(fibre_stiffness_scaling), bead limits (bonds and contacts together) between x1 and
+    that; the data file carries the scaled density and K (relative tolerance 1e-12)."""
     base = tiny_spec()
     spec = base.replace(
         numerics={"mass_scaling": mass_scaling, "fibre_stiffness_scaling": stiffness_scaling}
@@ -29,9 +45,13 @@ def test_scalings_reach_the_data_file_and_scale_the_limits(
     reference = time_step(base, model).limits
     limits = time_step(spec, model).limits
     for name, limit in limits.items():
-        fibre = name.startswith("bond ply")
-        expected = reference[name] * math.sqrt(mass_scaling / (stiffness_scaling if fibre else 1))
-        assert limit == pytest.approx(expected, rel=1e-12), name
+        scaled = reference[name] * math.sqrt(mass_scaling)
+        if name.startswith("bond ply"):
+            assert limit == pytest.approx(scaled / math.sqrt(stiffness_scaling), rel=1e-12), name
+        elif name.startswith("bead ply"):
+            assert scaled * (1 - 1e-12) <= limit <= scaled / math.sqrt(stiffness_scaling), name
+        else:
+            assert limit == pytest.approx(scaled, rel=1e-12), name
     data = read_data(build(spec, tmp_path / "run").directory / "model.data")
     np.testing.assert_allclose(data.density, model.density * mass_scaling, rtol=1e-12)
     simulated = simulated_model(spec, model)

@@ -9,7 +9,7 @@ import sys
 import h5py
 import numpy as np
 import pytest
-from conftest import case_spec
+from conftest import case_spec, tiny_spec
 
 from ncf2lammps import run
 from ncf2lammps.engine import UnstableRunError
@@ -20,10 +20,10 @@ from ncf2lammps.io.spectoml import dumps_spec
 FAST = {"inertial_number": 0.5, "final_fvf": 0.5}
 
 
-def outcome(spec, folder):
+def outcome(spec, folder, scene="compaction"):
     """'finished' with finite results, or 'guard' with a diagnosis and an incomplete file."""
     try:
-        results = read_results(run(spec, folder, scenes=["compaction"]))
+        results = read_results(run(spec, folder, scenes=[scene]))
     except UnstableRunError as err:
         message = str(err)
         assert "\n" not in message and "step" in message
@@ -44,13 +44,59 @@ def outcome(spec, folder):
         {"contact": {"friction": 1.0}},
         {"ply": [{"angle_deg": 0.0, "E_GPa": 2400.0}, {"angle_deg": 90.0, "E_GPa": 2.4}]},
         {"numerics": {"dt_fraction": 1.2, "allow_unstable_dt": True}},
+        {
+            "mat": {"initial_fvf": 0.6},
+            "cell": {"length_mm": 1.0, "width_mm": 1.0},
+            "discretisation": {"chain_diameter_um": 65.0},
+            "compaction": {**FAST, "final_fvf": 0.75},
+        },
+        {"compaction": {**FAST, "final_fvf": 0.8}},
+        {"discretisation": {"chain_diameter_um": 100.0, "bead_spacing_ratio": 1.0}},
+        {"discretisation": {"chain_diameter_um": 200.0, "bead_spacing_ratio": 0.25}},
+        {
+            "cell": {"length_mm": 0.4, "width_mm": 0.4},
+            "discretisation": {"chain_diameter_um": 190.0},
+        },
     ],
-    ids=["mu0", "mu1", "fibre-E-x10-and-div100", "dt-1.5x-limit"],
+    ids=[
+        "mu0",
+        "mu1",
+        "fibre-E-x10-and-div100",
+        "dt-1.5x-limit",
+        "initial-fvf-0.6",
+        "compaction-to-fvf-0.8",
+        "bead-spacing-d",
+        "bead-spacing-d/4",
+        "one-chain-per-ply",
+    ],
 )
 def test_extreme_cases_finish_or_stop_with_diagnosis(tables, tmp_path):
-    spec = case_spec("mat-only").replace(compaction=FAST, **tables)
+    spec = case_spec("mat-only").replace(**{"compaction": FAST, **tables})
     kind, _ = outcome(spec, tmp_path / "run")
     assert kind in ("finished", "guard")
+
+
+def test_shear_to_60_degrees_finishes_or_stops_with_diagnosis(tmp_path):
+    spec = case_spec("mat-only").replace(shear={"final_angle_deg": 60.0, "inertial_number": 0.4})
+    kind, result = outcome(spec, tmp_path / "run", scene="shear")
+    assert kind in ("finished", "guard")
+    if kind == "finished":
+        assert result["shear"]["angle_deg"][-1] == pytest.approx(60.0, abs=0.5)
+
+
+def test_stitch_modulus_x100_manufacture_finishes_or_stops_with_diagnosis(tmp_path):
+    """PES stitch at 1200 GPa: the stitch bonds set the time step, 10 x smaller. Masses x 100
+    bring the step count back to CI size; scaling every mass alike keeps the stiffness contrast
+    (stitch 100 x stiffer than before against fibres and contacts) that makes the case stiff."""
+    spec = tiny_spec(
+        stitch={"E_GPa": 1200.0},
+        numerics={"mass_scaling": 100.0},
+        manufacture={"pretension_strain_rate_per_us": 0.02, "damping_time_us": 10.0},
+    )
+    kind, result = outcome(spec, tmp_path / "run", scene="manufacture")
+    assert kind in ("finished", "guard")
+    if kind == "finished":
+        assert abs(result["manufacture"]["attrs"]["stitch_tension_error"]) < 0.05
 
 
 def test_far_too_large_time_step_trips_a_guard_and_cli_exits_1(tmp_path):

@@ -14,7 +14,16 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import EllipseCollection
 
-__all__ = ["VIEWS", "plot_histories", "plot_local_thickness", "render_cell", "render_views"]
+__all__ = [
+    "CAPTIONS",
+    "VIEWS",
+    "plot_histories",
+    "plot_local_thickness",
+    "plot_study",
+    "render_cell",
+    "render_views",
+    "tile_cell",
+]
 
 #: View name -> (horizontal axis, vertical axis, depth axis, depth sign toward the viewer).
 VIEWS = {
@@ -22,14 +31,16 @@ VIEWS = {
     "back": (0, 1, 2, -1.0),  # underlap face, seen from -z (mirrored in x)
     "side": (0, 2, 1, -1.0),  # seen from -y
 }
+#: View name -> panel caption.
+CAPTIONS = {"front": "front (loop face)", "back": "back (underlap face)", "side": "side"}
 
 _COLOURS = np.array(
     [[0.15, 0.15, 0.15], [0.45, 0.45, 0.45], [0.85, 0.2, 0.1], [0.2, 0.4, 0.8], [0.3, 0.7, 0.3]]
 )
 
 
-def _tile(positions, box_lengths, tilt_xy, repeat):
-    """(N * rx * ry, 3) positions tiled over ``repeat`` cells of the (sheared) periodic box."""
+def tile_cell(positions, box_lengths, tilt_xy, repeat):
+    """(N * rx * ry, 3) positions tiled over ``repeat`` cells of the (sheared) box, and rx * ry."""
     rx, ry = repeat
     a = np.array([box_lengths[0], 0.0, 0.0])
     b = np.array([tilt_xy, box_lengths[1], 0.0])
@@ -56,7 +67,7 @@ def render_cell(
         repeat: cells tiled along the two box edges in the plane.
     """
     h, v, depth, sign = VIEWS[view]
-    tiled, copies = _tile(
+    tiled, copies = tile_cell(
         positions, box_lengths, tilt_xy, repeat if view != "side" else (repeat[0], 1)
     )
     size = np.tile(diameter, copies)
@@ -94,10 +105,7 @@ def render_views(positions, diameter, colour_index, box_lengths, title: str, til
     fig, axes = plt.subplots(3, 1, figsize=(11, 13), gridspec_kw={"height_ratios": [3, 3, 1.2]})
     for ax, view in zip(axes, ("front", "back", "side"), strict=True):
         render_cell(positions, diameter, colour_index, box_lengths, view, tilt_xy=tilt_xy, ax=ax)
-        ax.set_title(
-            f"{title}: {view}"
-            + {"front": " (loop face)", "back": " (underlap face)", "side": ""}[view]
-        )
+        ax.set_title(f"{title}: {CAPTIONS[view]}")
     fig.tight_layout()
     return fig
 
@@ -138,5 +146,29 @@ def plot_local_thickness(step, thickness_mm, fvf, title: str):
     right.set_ylabel("grid cell along b (y)")
     right.set_title(f"step {int(step[-1])}")
     fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
+def plot_study(wall_s, error, front, labels, tolerance: float, reference: int):
+    """Log-log maximum relative error against wall time, the Pareto front joined; returns the
+    figure. The reference point (error 0) is drawn on the lower edge."""
+    wall_s = np.asarray(wall_s, dtype=float)
+    error = np.asarray(error, dtype=float)
+    finite = np.isfinite(error) & (error > 0)
+    floor = 0.3 * float(error[finite].min()) if np.any(finite) else 1e-4
+    shown = np.where(np.isfinite(error), np.maximum(error, floor), np.nan)
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    ax.loglog(wall_s, shown, "o", c="0.6", label="study point")
+    order = np.flatnonzero(front)[np.argsort(wall_s[front])]
+    ax.loglog(wall_s[order], shown[order], "-o", c="C3", label="Pareto front")
+    ax.loglog(wall_s[reference], shown[reference], "s", c="k", label="reference (error 0)")
+    ax.axhline(tolerance, ls="--", c="k", lw=0.8, label=f"{tolerance:.0%} tolerance")
+    for x, y, text in zip(wall_s, shown, labels, strict=True):
+        if np.isfinite(y):
+            ax.annotate(text, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel("largest relative error of the outputs")
+    ax.legend(fontsize=8)
     fig.tight_layout()
     return fig

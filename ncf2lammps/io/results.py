@@ -13,7 +13,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-__all__ = ["mark_complete", "read_results", "write_root", "write_scene"]
+__all__ = ["mark_complete", "read_results", "update_root", "write_root", "write_scene"]
 
 
 def write_root(path: str | os.PathLike, attrs: dict) -> None:
@@ -62,3 +62,11 @@ def read_results(path: str | os.PathLike) -> dict:
             out[name] = {"attrs": dict(group.attrs)}
             out[name].update({k: group[k][()] for k in group})
     return out
+
+
+def update_root(path: str | os.PathLike, attrs: dict) -> None:
+    """Set root attributes of an existing file and mark it incomplete (its groups are kept)."""
+    with h5py.File(path, "a") as fh:
+        for key, value in attrs.items():
+            fh.attrs[key] = value
+        fh.attrs["complete"] = False

@@ -117,6 +117,12 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
     loaded = work > 1e-3 * work[-1] if len(work) and work[-1] > 0 else np.zeros(len(work), bool)
     kinetic = history["v_kinetic"][keep]
     ratio = kinetic[loaded] / work[loaded]
+    # Quasi-static plates carry equal forces: the work-weighted top/bottom mismatch once loaded.
+    mismatch = np.abs(history["v_force_top"] - history["v_force_bottom"])[keep]
+    travel = np.abs(np.gradient(gap)) * loaded if len(gap) > 1 else np.zeros(len(gap))
+    imbalance = (
+        float(np.sum(mismatch * travel) / np.sum(force * travel)) if np.any(travel) else math.nan
+    )
     t1, t18 = (curve.thickness_at(p) for p in REPORT_PRESSURES)
     attrs = {
         "steps": int(read_final(directory / "compaction.final.txt")["step"]),
@@ -125,6 +131,7 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
         "fvf_at_18kPa": units.from_micro(per_area, "mm") / t18 if math.isfinite(t18) else math.nan,
         "max_kinetic_ratio": float(ratio.max()) if len(ratio) else math.nan,
         "kinetic_ratio_target": spec.compaction.kinetic_ratio_target,
+        "plate_force_imbalance": imbalance,
         "plate_speed_m_s": units.from_micro(plate_speed(spec, model), "m_s"),
         "final_fvf": spec.compaction.final_fvf,
     }

@@ -28,7 +28,8 @@ import numpy as np
 
 from .. import units
 from ..analysis.geometry import max_overlap, min_xy_distance
-from ..analysis.plots import plot_histories, render_views
+from ..analysis.plots import plot_histories
+from ..analysis.render3d import views_figure
 from ..engine import Checkpoints, Engine, EngineError
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, read_final
@@ -232,6 +233,7 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
         "stitch_tension_N": tension,
         "stitch_tension_target_N": target,
         "stitch_tension_error": (tension - target) / target,
+        "tension_tolerance": spec.manufacture.tension_tolerance,
         "kinetic_ratio": final["kinetic_ratio"],
         "kinetic_ratio_target": spec.manufacture.kinetic_ratio_target,
         **(json.loads(checks.read_text()) if checks.is_file() else {}),
@@ -253,12 +255,14 @@ def figures(results: dict, directory: Path) -> list[Path]:
     state_file = directory / "manufactured.data"
     if state_file.is_file():
         state = read_data(state_file)
-        fig = render_views(
+        labels = state.atom_labels
+        fig = views_figure(
             state.positions,
             state.diameter,
             state.type_id,
             state.box.hi - state.box.lo,
             "as manufactured",
+            stitch_type=labels.index("stitch") if "stitch" in labels else None,
         )
         written.append(directory / "figures" / "manufacture_views.png")
         fig.savefig(written[-1], dpi=110)

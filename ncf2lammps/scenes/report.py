@@ -17,6 +17,7 @@ from ..io.lammpslog import read_loop_times
 from ..io.results import mark_complete, read_results, write_root, write_scene
 from ..io.spectoml import dumps_spec
 from ..model import build_model
+from ..numerics import time_step
 from ..spec import load_spec
 from .build import SCENES, applicable_scenes, scene_module
 
@@ -44,6 +45,7 @@ def collect_outputs(directory: str | os.PathLike) -> Path:
     directory = Path(directory)
     spec = load_spec(directory / "spec.resolved.toml")
     model = build_model(spec)
+    step = time_step(spec, model)
     scenes = [s for s in applicable_scenes(spec) if (directory / f"{s}.final.txt").is_file()]
     logs = [directory / f"log.{s}.lammps" for s in scenes]
     results = directory / "results.h5"
@@ -60,6 +62,10 @@ def collect_outputs(directory: str | os.PathLike) -> Path:
                 (directory / "spec.resolved.toml").stat().st_mtime, UTC
             ).isoformat(timespec="seconds"),
             "driver": "plain lmp",
+            "dt_us": step.dt,
+            "dt_critical_us": step.critical,
+            "dt_governing": step.governing,
+            "dt_margin": step.margin,
         },
     )
     for scene, log in zip(scenes, logs, strict=True):
@@ -109,6 +115,47 @@ def _trajectories(directory: Path) -> list[Path]:
     return written
 
 
+#: Per-scene error indicators shown first in summary.md: (scene, attribute, attribute of its
+#: limit; "" when there is none).
+INDICATORS = (
+    ("manufacture", "stitch_tension_error", "tension_tolerance"),
+    ("manufacture", "kinetic_ratio", "kinetic_ratio_target"),
+    ("compaction", "max_kinetic_ratio", "kinetic_ratio_target"),
+    ("compaction", "plate_force_imbalance", ""),
+    ("shear", "max_kinetic_ratio", "kinetic_ratio_target"),
+    ("shear", "work_virial_max_deviation", ""),
+)
+
+
+def _indicator_lines(results: dict) -> list[str]:
+    """The error-indicator table: time-step margin, then each scene's checks, wall time, steps."""
+    root = results["attrs"]
+    lines = [
+        "## Error indicators",
+        "",
+        "| scene | indicator | value | limit |",
+        "|---|---|---|---|",
+    ]
+    if "dt_margin" in root:
+        lines.append(
+            f"| all | time step {_format(root['dt_us'])} us, margin to the stable limit"
+            f" ({_format(root['dt_governing'])}) | {_format(root['dt_margin'])} | > 1 |"
+        )
+    for scene in SCENES:
+        if scene not in results:
+            continue
+        attrs = results[scene]["attrs"]
+        for indicator_scene, key, limit_key in INDICATORS:
+            if indicator_scene == scene and key in attrs:
+                limit = _format(attrs[limit_key]) if limit_key in attrs else ""
+                lines.append(f"| {scene} | {key} | {_format(attrs[key])} | {limit} |")
+        lines.append(
+            f"| {scene} | wall time (s), steps | {_format(attrs.get('wall_s', float('nan')))},"
+            f" {_format(attrs.get('steps', ''))} | |"
+        )
+    return [*lines, ""]
+
+
 def write_report(directory: str | os.PathLike) -> list[Path]:
     """Write figures/*.png and summary.md for the run in ``directory``; returns the files.
 
@@ -132,6 +179,7 @@ def write_report(directory: str | os.PathLike) -> list[Path]:
         f" {_format(root['mpi_ranks'])} MPI rank(s), created {_format(root['created'])};"
         f" complete: {bool(root['complete'])}.",
         "",
+        *_indicator_lines(results),
     ]
     for scene, group in results.items():
         if scene == "attrs":

@@ -191,6 +191,10 @@ def run(
                 "n_bonds": built.model.n_bonds,
                 "mpi_ranks": ranks,
                 "created": datetime.now(UTC).isoformat(timespec="seconds"),
+                "dt_us": built.time_step.dt,
+                "dt_critical_us": built.time_step.critical,
+                "dt_governing": built.time_step.governing,
+                "dt_margin": built.time_step.margin,
             },
         )
     run_scenes(spec, directory, wanted, ranks=ranks, resume=resume)

@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import units
-from ..analysis.plots import render_views
+from ..analysis.render3d import views_figure
 from ..analysis.shear import ShearCurve
 from ..engine import Checkpoints, Engine
 from ..io.datafile import read_data
@@ -204,13 +204,15 @@ def figures(results: dict, directory: Path) -> list[Path]:
         if not state_file.is_file():
             continue
         state = read_data(state_file)
-        fig = render_views(
+        labels = state.atom_labels
+        fig = views_figure(
             state.positions,
             state.diameter,
             state.type_id,
             state.box.hi - state.box.lo,
             f"sheared {angle:g} deg",
             tilt_xy=float(state.box.tilt[0]),
+            stitch_type=labels.index("stitch") if "stitch" in labels else None,
         )
         written.append(directory / "figures" / f"shear_views_{angle:g}deg.png")
         fig.savefig(written[-1], dpi=110)

@@ -1,0 +1,56 @@
+"""Shared by the throughput benchmarks: a fixed-length compaction deck on the paper's cell.
+
+The cell is the paper's (runs/hpt310, 69 um chains) without the stitch, so the compaction deck
+starts from model.data and needs no manufactured state. The plates close at a fixed speed to
+Vf 0.33 and ``fix halt`` ends the run there: every path runs the same deck for the same steps.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from ncf2lammps import load_spec
+from ncf2lammps.engine import Engine
+from ncf2lammps.scenes.build import build
+
+ROOT = Path(__file__).resolve().parent.parent
+LMP = shutil.which("lmp", path=str(Path(sys.executable).parent)) or "lmp"
+MPIEXEC = shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or "mpiexec"
+
+
+def paper_mat_folder(directory: Path, plate_speed_m_s: float = 1.0) -> tuple[Path, int]:
+    """Build the benchmark folder; returns (folder, atoms)."""
+    spec = load_spec(ROOT / "runs" / "hpt310" / "spec.toml")
+    spec = spec.replace(
+        stitch=None, compaction={"final_fvf": 0.33, "plate_speed_m_s": plate_speed_m_s}
+    )
+    built = build(spec, directory, force=True)
+    return built.directory, built.model.n_atoms
+
+
+def run_python(folder: Path, chunk: int = 5000) -> tuple[float, int]:
+    """(wall s, steps) of the compaction deck run by the Python driver (1 rank)."""
+    start = time.perf_counter()
+    with Engine(folder, log="log.python.lammps") as engine:
+        engine.run_deck("decks/in.compaction.lmp", chunk=chunk)
+        steps = engine.step
+    return time.perf_counter() - start, steps
+
+
+def run_lmp(folder: Path, ranks: int = 1) -> tuple[float, int]:
+    """(wall s, steps) of the same deck run by plain ``lmp`` on ``ranks`` MPI ranks."""
+    command = [LMP, "-in", "decks/in.compaction.lmp", "-log", f"log.lmp{ranks}.lammps"]
+    command += ["-screen", "none", "-nocite"]
+    if ranks > 1:
+        command = [MPIEXEC, "-n", str(ranks), *command]
+    start = time.perf_counter()
+    subprocess.run(command, cwd=folder, check=True)
+    wall = time.perf_counter() - start
+    log = (folder / f"log.lmp{ranks}.lammps").read_text()
+    steps = sum(int(n) for n in re.findall(r"Loop time of \S+ on \d+ procs for (\d+) steps", log))
+    return wall, steps

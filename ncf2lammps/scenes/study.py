@@ -1,0 +1,302 @@
+"""``ncf2lammps study``: the same scenes over a grid of numerical knobs; error against run time.
+
+Stages of :func:`study`:
+
+1. the grid: the product of the ``--vary`` value lists (``zip``: their position-wise pairs),
+   every point's spec validated before anything runs; the reference is the point whose knobs
+   all sit at their conservative end (:data:`KNOBS`: finest, slowest, unscaled);
+2. each point runs in ``points/pNN`` like ``ncf2lammps run``; a point whose results are
+   complete for the same spec is reused (a killed study resumes), and a point whose model and
+   manufacture settings equal an earlier point's starts from a copy of that manufactured state
+   and runs only the test scenes (its wall time still counts the manufacture it reuses);
+3. the table: each output (:data:`OUTPUTS`), its relative error against the reference, the
+   largest error, wall time, steps and the Pareto front (no faster point is as accurate):
+   ``study.csv``, ``study.md`` and ``study.png``, written last.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import sys
+import tomllib
+from collections.abc import Sequence
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from itertools import product
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ..analysis.plots import plot_study
+from ..analysis.study import pareto_front, relative_errors
+from ..engine import EngineError
+from ..io.results import mark_complete, read_results, update_root
+from ..io.spectoml import dumps_spec, write_spec
+from ..io.table import write_csv
+from ..spec import FabricSpec, SpecError
+from .build import OutputExistsError
+from .report import write_report
+from .run import run, run_scenes, scenes_to_run
+
+__all__ = ["KNOBS", "OUTPUTS", "StudyPoint", "parse_vary", "study", "study_grid"]
+
+#: Knobs a study may vary, with the end that is most conservative (the reference).
+KNOBS = {
+    "discretisation.chain_diameter_um": "min",
+    "discretisation.bead_spacing_ratio": "min",
+    "numerics.dt_fraction": "min",
+    "numerics.mass_scaling": "min",
+    "numerics.fibre_stiffness_scaling": "max",
+    "manufacture.pretension_strain_rate_per_us": "min",
+    "manufacture.damping_time_us": "max",
+    "manufacture.needle_speed_m_s": "min",
+    "compaction.inertial_number": "min",
+    "compaction.plate_speed_m_s": "min",
+    "shear.inertial_number": "min",
+    "shear.shear_rate_deg_us": "min",
+}
+
+#: Outputs compared across points: (scene, results.h5 attribute, label).
+OUTPUTS = (
+    ("manufacture", "stitch_tension_N", "stitch tension (N)"),
+    ("manufacture", "thickness_mm", "thickness after manufacture (mm)"),
+    ("compaction", "thickness_at_1kPa_mm", "t at 1 kPa (mm)"),
+    ("compaction", "thickness_at_18kPa_mm", "t at 18 kPa (mm)"),
+    ("shear", "force_at_45deg_N_per_m", "F_N at 45 deg (N/m)"),
+)
+
+#: Scene settings a test scene's point may differ in and still reuse a manufactured state.
+TEST_TABLES = ("compaction", "shear")
+
+
+def parse_vary(text: str) -> tuple[str, list]:
+    """``"table.field=v1,v2"`` -> (knob, values); values parsed as TOML scalars."""
+    knob, sep, values = text.partition("=")
+    knob = knob.strip()
+    if not sep or knob not in KNOBS:
+        raise SpecError(
+            "--vary", text, f"must be KNOB=V1,V2,... with KNOB one of {', '.join(KNOBS)}"
+        )
+    try:
+        parsed = [tomllib.loads(f"v = {v.strip()}")["v"] for v in values.split(",") if v.strip()]
+    except tomllib.TOMLDecodeError:
+        raise SpecError("--vary", text, "values must be numbers separated by commas") from None
+    if not parsed:
+        raise SpecError("--vary", text, "needs at least one value")
+    return knob, parsed
+
+
+@dataclass(frozen=True)
+class StudyPoint:
+    """One grid point: its label (``pNN``), knob values and validated spec."""
+
+    label: str
+    knobs: dict
+    spec: FabricSpec
+
+
+def study_grid(
+    spec: FabricSpec, vary: Sequence[tuple[str, list]], zipped: bool = False
+) -> tuple[list[StudyPoint], int]:
+    """The grid's points (specs validated) and the index of the reference point."""
+    names = [knob for knob, _ in vary]
+    if len(set(names)) != len(names):
+        raise SpecError("--vary", names, "each knob at most once")
+    lists = [values for _, values in vary]
+    if zipped and len({len(v) for v in lists}) > 1:
+        raise SpecError("--zip", [len(v) for v in lists], "every --vary needs as many values")
+    combos = list(zip(*lists, strict=True)) if zipped else list(product(*lists))
+    points = []
+    for index, combo in enumerate(combos):
+        tables: dict[str, dict] = {}
+        for knob, value in zip(names, combo, strict=True):
+            table, field_name = knob.split(".")
+            tables.setdefault(table, {})[field_name] = value
+        point_spec = spec.replace(**tables) if tables else spec
+        points.append(StudyPoint(f"p{index:02d}", dict(zip(names, combo, strict=True)), point_spec))
+    conservative = [
+        (min if KNOBS[knob] == "min" else max)(v for v in values if v is not None)
+        for knob, values in vary
+    ]
+    reference = [i for i, c in enumerate(combos) if list(c) == conservative]
+    if not reference:
+        raise SpecError(
+            "--zip", conservative, "no point has every knob at its conservative end (the reference)"
+        )
+    return points, reference[0]
+
+
+def _manufacture_key(spec: FabricSpec) -> str:
+    data = spec.to_dict()
+    for table in TEST_TABLES:
+        data.pop(table, None)
+    return json.dumps(data, sort_keys=True)
+
+
+def _is_complete(directory: Path, spec: FabricSpec) -> bool:
+    path = directory / "results.h5"
+    if not path.is_file():
+        return False
+    root = read_results(path)["attrs"]
+    spec_toml = root.get("spec_toml")
+    if isinstance(spec_toml, bytes):
+        spec_toml = spec_toml.decode()
+    return bool(root.get("complete")) and spec_toml == dumps_spec(spec)
+
+
+def _run_from_manufactured(
+    point: StudyPoint, source: Path, directory: Path, scenes: Sequence[str]
+) -> None:
+    """Copy ``source`` (manufactured) to ``directory`` and run the test ``scenes`` there."""
+    partial = directory.with_name(f"{directory.name}.partial-{os.getpid()}")
+    shutil.rmtree(partial, ignore_errors=True)
+    shutil.copytree(source, partial)
+    try:
+        write_spec(partial / "spec.resolved.toml", point.spec)
+        results = partial / "results.h5"
+        update_root(
+            results,
+            {
+                "spec_toml": dumps_spec(point.spec),
+                "created": datetime.now(UTC).isoformat(timespec="seconds"),
+            },
+        )
+        run_scenes(point.spec, partial, [s for s in scenes if s != "manufacture"])
+        mark_complete(results)
+        write_report(partial)
+        shutil.rmtree(directory, ignore_errors=True)
+        partial.rename(directory)
+    except BaseException:
+        shutil.rmtree(partial, ignore_errors=True)
+        raise
+
+
+def _point_row(directory: Path, scenes: Sequence[str]) -> dict:
+    """Outputs, wall time, steps and the largest kinetic ratio of a finished point."""
+    results = read_results(directory / "results.h5")
+    row: dict = {}
+    for scene, attr, _ in OUTPUTS:
+        if scene in scenes:
+            row[attr] = float(results[scene]["attrs"].get(attr, np.nan))
+    groups = [results[s]["attrs"] for s in scenes]
+    row["wall_s"] = float(sum(g["wall_s"] for g in groups))
+    row["steps"] = int(sum(g["steps"] for g in groups))
+    ratios = [g.get("max_kinetic_ratio", g.get("kinetic_ratio", np.nan)) for g in groups]
+    row["max_kinetic_ratio"] = float(np.nanmax(ratios))
+    return row
+
+
+def study(
+    spec: FabricSpec,
+    directory: str | os.PathLike,
+    vary: Sequence[tuple[str, list]],
+    scenes: Sequence[str] | None = None,
+    zipped: bool = False,
+    tolerance: float = 0.03,
+) -> list[Path]:
+    """Run the grid (see the module docstring); returns the files written."""
+    points, reference = study_grid(spec, vary, zipped)
+    wanted = scenes_to_run(spec, scenes)
+    directory = Path(directory)
+    if directory.exists() and any(directory.iterdir()) and not (directory / "points").is_dir():
+        raise OutputExistsError(f"{directory}: exists and is not a study folder")
+    (directory / "points").mkdir(parents=True, exist_ok=True)
+    manufactured: dict[str, Path] = {}
+    rows = []
+    for number, point in enumerate(points, start=1):
+        folder = directory / "points" / point.label
+        knobs = ", ".join(f"{k}={v}" for k, v in point.knobs.items())
+        print(f"study {point.label} ({number}/{len(points)}): {knobs}", file=sys.stderr)
+        status = "ok"
+        try:
+            if _is_complete(folder, point.spec):
+                status = "ok (reused)"
+            elif (key := _manufacture_key(point.spec)) in manufactured and "manufacture" in wanted:
+                _run_from_manufactured(point, manufactured[key], folder, wanted)
+            else:
+                run(point.spec, folder, wanted, force=True)
+            row = _point_row(folder, wanted)
+            if "manufacture" in wanted:
+                manufactured.setdefault(_manufacture_key(point.spec), folder)
+        except EngineError as err:
+            status = f"failed: {str(err).splitlines()[0]}"
+            row = {}
+        rows.append({"point": point.label, **point.knobs, "status": status, **row})
+    return _write_tables(directory, spec, points, reference, rows, wanted, tolerance)
+
+
+def _write_tables(directory, spec, points, reference, rows, scenes, tolerance) -> list[Path]:
+    """study.csv, study.md and study.png from the rows of every point."""
+    outputs = [(attr, label) for scene, attr, label in OUTPUTS if scene in scenes]
+    values = np.array([[row.get(attr, np.nan) for attr, _ in outputs] for row in rows])
+    errors = relative_errors(values, reference)
+    with np.errstate(invalid="ignore"):
+        worst = np.where(np.all(np.isnan(errors), axis=1), np.nan, np.nanmax(errors, axis=1))
+    worst[np.any(np.isnan(values), axis=1)] = np.nan
+    wall = np.array([row.get("wall_s", np.nan) for row in rows])
+    front = pareto_front(wall, worst)
+    knobs = list(points[0].knobs)
+    columns: dict[str, list] = {"point": [r["point"] for r in rows]}
+    columns.update({k: [r[k] for r in rows] for k in knobs})
+    columns["status"] = [r["status"] for r in rows]
+    for j, (attr, _) in enumerate(outputs):
+        columns[attr] = list(values[:, j])
+        columns[f"error_{attr}"] = list(errors[:, j])
+    columns["max_error"] = list(worst)
+    columns["wall_s"] = list(wall)
+    columns["steps"] = [r.get("steps", 0) for r in rows]
+    columns["max_kinetic_ratio"] = [r.get("max_kinetic_ratio", np.nan) for r in rows]
+    columns["pareto"] = [bool(f) for f in front]
+    columns["reference"] = [i == reference for i in range(len(rows))]
+    write_csv(directory / "study.csv.tmp", columns)
+    (directory / "study.csv.tmp").replace(directory / "study.csv")
+    fig = plot_study(wall, worst, front, columns["point"], tolerance, reference)
+    fig.savefig(directory / "study.png", dpi=120)
+    plt.close(fig)
+    within = np.flatnonzero(worst <= tolerance)
+    lines = [
+        f"# Study: {spec.name}",
+        "",
+        f"Scenes: {', '.join(scenes)}. Knobs: {', '.join(knobs)}. Reference (every knob at its"
+        f" conservative end): {rows[reference]['point']}. Error = |x - x_ref| / |x_ref|;"
+        f" tolerance {tolerance:.0%}. Wall time sums the scenes of each point (a reused"
+        " manufacture counts its own wall time).",
+        "",
+        "| point | "
+        + " | ".join(knobs)
+        + " | "
+        + " | ".join(label for _, label in outputs)
+        + " | max error | wall (s) | steps | max KE ratio | Pareto |",
+        "|" + "---|" * (len(knobs) + len(outputs) + 6),
+    ]
+    for i, row in enumerate(rows):
+        cells = [row["point"] + (" (ref)" if i == reference else "")]
+        cells += [f"{row[k]}" for k in knobs]
+        if row["status"].startswith("failed"):
+            cells += [row["status"]] + [""] * (len(outputs) + 4)
+        else:
+            cells += [f"{values[i, j]:.5g} ({errors[i, j]:.2%})" for j in range(len(outputs))]
+            cells += [
+                f"{worst[i]:.2%}",
+                f"{wall[i]:.0f}",
+                f"{row['steps']}",
+                f"{row['max_kinetic_ratio']:.2g}",
+                "yes" if front[i] else "",
+            ]
+        lines.append("| " + " | ".join(cells) + " |")
+    lines.append("")
+    if len(within):
+        best = int(within[np.argmin(wall[within])])
+        lines.append(
+            f"Fastest point within {tolerance:.0%} on every output: **{rows[best]['point']}**"
+            f" ({', '.join(f'{k}={rows[best][k]}' for k in knobs)}), {wall[best]:.0f} s ="
+            f" 1/{wall[reference] / wall[best]:.3g} of the reference's {wall[reference]:.0f} s."
+        )
+    else:
+        lines.append(f"No point is within {tolerance:.0%} of the reference on every output.")
+    lines += ["", "![error against wall time](study.png)", ""]
+    (directory / "study.md").write_text("\n".join(lines))
+    return [directory / "study.csv", directory / "study.md", directory / "study.png"]

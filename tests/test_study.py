@@ -1,0 +1,110 @@
+"""``study`` (issue 6): a grid of knobs, errors against the reference, the Pareto front."""
+
+from __future__ import annotations
+
+import csv
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from conftest import tiny_spec
+
+from ncf2lammps.analysis.study import pareto_front, relative_errors
+from ncf2lammps.io.spectoml import write_spec
+from ncf2lammps.scenes.study import study, study_grid
+
+
+def test_pareto_front_keeps_points_no_faster_point_beats():
+    wall = np.array([10.0, 20.0, 5.0, 40.0, 30.0, 8.0])
+    error = np.array([0.05, 0.01, 0.20, 0.0, 0.02, np.nan])
+    # 5 s (0.20) is fastest; 10 s (0.05) better; 20 s (0.01) better; 30 s (0.02) is not;
+    # 40 s (0.0) better; a failed point (NaN) never is.
+    assert pareto_front(wall, error).tolist() == [True, True, True, True, False, False]
+
+
+def test_relative_errors_against_the_reference_row():
+    values = np.array([[1.0, 10.0], [1.1, 9.0], [np.nan, 10.0]])
+    errors = relative_errors(values, 0)
+    np.testing.assert_allclose(errors[:2], [[0.0, 0.0], [0.1, 0.1]], rtol=1e-12)
+    assert np.isnan(errors[2, 0]) and errors[2, 1] == 0.0
+
+
+def test_grid_reference_is_every_knob_at_its_conservative_end():
+    spec = tiny_spec()
+    vary = [
+        ("shear.inertial_number", [0.1, 0.025, 0.05]),
+        ("numerics.fibre_stiffness_scaling", [0.04, 1.0]),
+    ]
+    points, reference = study_grid(spec, vary)
+    assert len(points) == 6
+    assert points[reference].knobs == {
+        "shear.inertial_number": 0.025,
+        "numerics.fibre_stiffness_scaling": 1.0,
+    }
+    assert points[reference].spec.shear.inertial_number == 0.025
+
+
+def test_bad_knob_or_value_is_one_line_exit_2(tmp_path):
+    spec_file = tmp_path / "spec.toml"
+    write_spec(spec_file, tiny_spec())
+    for vary, field in (
+        ("numerics.warp=1,2", "--vary"),
+        ("numerics.dt_fraction=0.5,7", "numerics.dt_fraction"),
+    ):
+        out = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "ncf2lammps.cli",
+                "study",
+                str(spec_file),
+                "-o",
+                str(tmp_path / "s"),
+                "--vary",
+                vary,
+            ],
+            capture_output=True,
+            text=True,
+        )
+        assert out.returncode == 2, out.stderr
+        assert len(out.stderr.strip().splitlines()) == 1 and field in out.stderr
+        assert "Traceback" not in out.stderr
+    assert not (tmp_path / "s").exists()
+
+
+@pytest.fixture(scope="module")
+def compaction_study(tmp_path_factory):
+    spec = tiny_spec(compaction={"final_fvf": 0.5})
+    folder = tmp_path_factory.mktemp("study") / "study"
+    study(spec, folder, [("compaction.inertial_number", [0.8, 0.4])], ["compaction"])
+    return spec, folder
+
+
+def test_study_writes_table_plot_and_errors(compaction_study):
+    """Reference = the slower rate (0.4): its errors are 0; the other point's error is
+    |x - x_ref| / x_ref of its own outputs (to 1e-6, the CSV's 7 digits)."""
+    _, folder = compaction_study
+    rows = list(csv.DictReader(open(folder / "study.csv")))
+    assert [r["compaction.inertial_number"] for r in rows] == ["0.8", "0.4"]
+    fast, ref = rows
+    assert ref["reference"] == "True" and float(ref["max_error"]) == 0.0
+    for key in ("thickness_at_1kPa_mm", "thickness_at_18kPa_mm"):
+        expected = abs(float(fast[key]) - float(ref[key])) / float(ref[key])
+        assert float(fast[f"error_{key}"]) == pytest.approx(expected, rel=1e-5, abs=1e-7)
+    # Both points share one manufactured state: equal manufacture outputs, error exactly 0.
+    assert fast["stitch_tension_N"] == ref["stitch_tension_N"]
+    assert float(fast["wall_s"]) > 0 and int(fast["steps"]) < int(ref["steps"])
+    assert (folder / "study.png").stat().st_size > 10_000
+    assert "Pareto" in (folder / "study.md").read_text()
+
+
+def test_study_resumes_by_reusing_complete_points(compaction_study):
+    spec, folder = compaction_study
+    before = (folder / "study.csv").read_text()
+    study(spec, folder, [("compaction.inertial_number", [0.8, 0.4])], ["compaction"])
+    rows = list(csv.DictReader(open(folder / "study.csv")))
+    assert [r["status"] for r in rows] == ["ok (reused)", "ok (reused)"]
+    assert [r["max_error"] for r in rows] == [
+        r["max_error"] for r in csv.DictReader(before.splitlines())
+    ]
