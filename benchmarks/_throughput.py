@@ -23,7 +23,7 @@ LMP = shutil.which("lmp", path=str(Path(sys.executable).parent)) or "lmp"
 MPIEXEC = shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or "mpiexec"
 
 
-def paper_mat_folder(directory: Path, plate_speed_m_s: float = 1.0) -> tuple[Path, int]:
+def paper_mat_folder(directory: Path, plate_speed_m_s: float = 3.0) -> tuple[Path, int]:
     """Build the benchmark folder; returns (folder, atoms)."""
     spec = load_spec(ROOT / "runs" / "hpt310" / "spec.toml")
     spec = spec.replace(

@@ -25,7 +25,8 @@ def test_data_file_round_trip_is_exact(case_models, case, tmp_path):
 
 @pytest.mark.parametrize("case", CASES)
 def test_lammps_reads_model_and_agrees(case_models, case, tmp_path):
-    """LAMMPS reads model.data, runs 0 steps; counts, positions and masses equal the model's."""
+    """LAMMPS reads model.data, runs 0 steps; counts, positions and masses equal the model's
+    (times the spec's mass scaling)."""
     spec, model = case_models[case]
     result = build(spec, tmp_path / "run")
     with Engine(result.directory, log="log.verify.lammps") as engine:
@@ -33,7 +34,9 @@ def test_lammps_reads_model_and_agrees(case_models, case, tmp_path):
         assert engine.natoms == model.n_atoms
         assert engine.nbonds == model.n_bonds
         np.testing.assert_allclose(engine.gather("x", 3), model.positions, rtol=0, atol=1e-9)
-        np.testing.assert_allclose(engine.gather("rmass", 1), model.mass, rtol=1e-12)
+        np.testing.assert_allclose(
+            engine.gather("rmass", 1), model.mass * spec.numerics.mass_scaling, rtol=1e-12
+        )
     # LAMMPS write_data -> our reader: the same atoms and bonds come back.
     with Engine(result.directory, log=None) as engine:
         engine.file("decks/in.verify.lmp")
