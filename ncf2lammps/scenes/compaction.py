@@ -23,6 +23,7 @@ import numpy as np
 
 from .. import units
 from ..analysis.compaction import CompactionCurve
+from ..analysis.energy import energy_balance_residual
 from ..engine import Checkpoints, Engine
 from ..io.lammpslog import read_ave_time, read_final
 from ..model import Model
@@ -123,6 +124,7 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
     imbalance = (
         float(np.sum(mismatch * travel) / np.sum(force * travel)) if np.any(travel) else math.nan
     )
+    potential = history["v_potential"][keep]
     t1, t18 = (curve.thickness_at(p) for p in REPORT_PRESSURES)
     attrs = {
         "steps": int(read_final(directory / "compaction.final.txt")["step"]),
@@ -132,6 +134,7 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
         "max_kinetic_ratio": float(ratio.max()) if len(ratio) else math.nan,
         "kinetic_ratio_target": spec.compaction.kinetic_ratio_target,
         "plate_force_imbalance": imbalance,
+        "energy_balance_residual": energy_balance_residual(work, kinetic, potential),
         "plate_speed_m_s": units.from_micro(plate_speed(spec, model), "m_s"),
         "final_fvf": spec.compaction.final_fvf,
     }

@@ -122,8 +122,10 @@ INDICATORS = (
     ("manufacture", "kinetic_ratio", "kinetic_ratio_target"),
     ("compaction", "max_kinetic_ratio", "kinetic_ratio_target"),
     ("compaction", "plate_force_imbalance", ""),
+    ("compaction", "energy_balance_residual", ""),
     ("shear", "max_kinetic_ratio", "kinetic_ratio_target"),
     ("shear", "work_virial_max_deviation", ""),
+    ("shear", "energy_balance_residual", ""),
 )
 
 

@@ -21,6 +21,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import units
+from ..analysis.energy import energy_balance_residual
 from ..analysis.render3d import views_figure
 from ..analysis.shear import ShearCurve
 from ..engine import Checkpoints, Engine
@@ -165,6 +166,9 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
         "force_at_45deg_N_per_m": units.from_micro(curve.force_at(math.pi / 4), "N_m"),
         "force_at_final_N_per_m": units.from_micro(curve.force_at(curve.angle[-1]), "N_m"),
         "max_kinetic_ratio": curve.max_kinetic_ratio(LOADED_FRACTION * final),
+        "energy_balance_residual": energy_balance_residual(
+            curve.work, stress["v_kinetic"], stress["v_potential"]
+        ),
         "kinetic_ratio_target": spec.shear.kinetic_ratio_target,
         "work_virial_max_deviation": float(np.max(np.abs(work[loaded] / force[loaded] - 1))),
         "shear_rate_deg_us": math.degrees(shear_rate(spec, model)),
