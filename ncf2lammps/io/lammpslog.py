@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["read_ave_time", "read_final", "read_loop_times"]
+__all__ = ["read_ave_time", "read_final", "read_loop_times", "scene_steps"]
 
 
 def read_ave_time(path: str | os.PathLike) -> dict[str, np.ndarray]:
@@ -39,6 +39,13 @@ def read_final(path: str | os.PathLike) -> dict[str, float]:
         except ValueError:
             continue
     return out
+
+
+def scene_steps(path: str | os.PathLike) -> int:
+    """Steps a scene ran (its closing line's ``step`` minus ``from``, the step it started at:
+    a scene read from a restart file continues the step count of the scene before it)."""
+    final = read_final(path)
+    return int(final["step"] - final.get("from", 0.0))
 
 
 _LOOP = re.compile(r"^Loop time of (\S+) on (\d+) procs")

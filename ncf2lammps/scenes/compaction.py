@@ -25,7 +25,7 @@ from .. import units
 from ..analysis.compaction import CompactionCurve
 from ..analysis.energy import energy_balance_residual
 from ..engine import Checkpoints, Engine
-from ..io.lammpslog import read_ave_time, read_final
+from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import contact_law, inertial_strain_rate, time_step
 from ..spec import FabricSpec
@@ -127,7 +127,7 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
     potential = history["v_potential"][keep]
     t1, t18 = (curve.thickness_at(p) for p in REPORT_PRESSURES)
     attrs = {
-        "steps": int(read_final(directory / "compaction.final.txt")["step"]),
+        "steps": scene_steps(directory / "compaction.final.txt"),
         "thickness_at_1kPa_mm": t1,
         "thickness_at_18kPa_mm": t18,
         "fvf_at_18kPa": units.from_micro(per_area, "mm") / t18 if math.isfinite(t18) else math.nan,

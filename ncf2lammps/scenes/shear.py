@@ -26,7 +26,7 @@ from ..analysis.render3d import views_figure
 from ..analysis.shear import ShearCurve
 from ..engine import Checkpoints, Engine
 from ..io.datafile import read_data
-from ..io.lammpslog import read_ave_time, read_final
+from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import inertial_strain_rate, simulated_model, time_step
 from ..spec import FabricSpec
@@ -162,7 +162,7 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
     work = units.from_micro(curve.force_work, "N_m")
     loaded = np.abs(force) > 0.1 * np.abs(force).max()
     attrs = {
-        "steps": int(read_final(directory / "shear.final.txt")["step"]),
+        "steps": scene_steps(directory / "shear.final.txt"),
         "force_at_45deg_N_per_m": units.from_micro(curve.force_at(math.pi / 4), "N_m"),
         "force_at_final_N_per_m": units.from_micro(curve.force_at(curve.angle[-1]), "N_m"),
         "max_kinetic_ratio": curve.max_kinetic_ratio(LOADED_FRACTION * final),
