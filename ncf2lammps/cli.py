@@ -1,4 +1,4 @@
-"""Command line: ``ncf2lammps check|build ...``; thin, it parses and calls the package.
+"""Command line: ``ncf2lammps check|build|run|export|report ...``; thin, it parses and calls the package.
 
 Exit codes: 0 success; 2 bad input (one line naming the field and the allowed range);
 1 a failed run (with a diagnosis).
@@ -14,6 +14,7 @@ from .engine import EngineError
 from .model import build_model
 from .numerics import STABLE_FRACTION, contact_law, simulated_model, time_step
 from .scenes.build import SCENES, OutputExistsError, build
+from .scenes.export import export
 from .scenes.report import write_report
 from .scenes.run import run
 from .spec import SpecError, load_spec
@@ -80,8 +81,17 @@ def _build(args) -> int:
 
 def _run(args) -> int:
     spec = load_spec(args.spec)
-    results = run(spec, args.output, scenes=args.scene, force=args.force)
+    results = run(
+        spec, args.output, scenes=args.scene, force=args.force, ranks=args.np, resume=args.resume
+    )
     print(f"wrote {results}")
+    return 0
+
+
+def _export(args) -> int:
+    spec = load_spec(args.spec)
+    folder = export(spec, args.output, args.np, args.time, args.module or (), force=args.force)
+    print(f"wrote {folder}: run it with: mpirun -np {args.np} lmp -in in.run_all.lmp")
     return 0
 
 
@@ -141,7 +151,29 @@ def parser() -> argparse.ArgumentParser:
         help="scene to run (repeat; default: all the spec supports)",
     )
     run_cmd.add_argument("--force", action="store_true", help="replace a non-empty folder")
+    run_cmd.add_argument(
+        "--np", type=int, default=1, metavar="N", help="MPI ranks (mpiexec; default 1)"
+    )
+    run_cmd.add_argument(
+        "--resume", action="store_true", help="continue a killed run in -o from its checkpoints"
+    )
     run_cmd.set_defaults(func=_run)
+    export_cmd = verbs.add_parser(
+        "export", help="HPC bundle for plain `mpirun -np N lmp -in in.run_all.lmp`"
+    )
+    export_cmd.add_argument("spec", help="spec TOML file")
+    export_cmd.add_argument("-o", "--output", required=True, help="output folder (new or empty)")
+    export_cmd.add_argument(
+        "--np", type=int, default=2, metavar="N", help="MPI ranks in job.slurm (default 2)"
+    )
+    export_cmd.add_argument(
+        "--time", default="24:00:00", help="Slurm wall time [D-]HH:MM:SS (default 24:00:00)"
+    )
+    export_cmd.add_argument(
+        "--module", action="append", help="module to load in job.slurm (repeat)"
+    )
+    export_cmd.add_argument("--force", action="store_true", help="replace a non-empty folder")
+    export_cmd.set_defaults(func=_export)
     report = verbs.add_parser("report", help="figures/ and summary.md from a run's results.h5")
     report.add_argument("directory", help="run folder with results.h5")
     report.set_defaults(func=_report)

@@ -26,6 +26,7 @@ __all__ = [
     "ManufactureSpec",
     "MatSpec",
     "NumericsSpec",
+    "OutputSpec",
     "PlySpec",
     "ShearSpec",
     "SpecError",
@@ -248,6 +249,16 @@ class ShearSpec:
     )
 
 
+@dataclass(frozen=True)
+class OutputSpec:
+    """Checkpoints and trajectory dumps of every scene (docs/hpc.md); 0 turns one off."""
+
+    checkpoint_every_steps: int = _f(
+        100_000, 0, 10**10, unit="steps", source="docs/hpc.md: rounded up to the record cadence"
+    )
+    dump_every_steps: int = _f(50_000, 0, 10**10, unit="steps", source="docs/hpc.md")
+
+
 _TABLES: dict[str, type] = {
     "stitch": StitchSpec,
     "cell": CellSpec,
@@ -258,6 +269,7 @@ _TABLES: dict[str, type] = {
     "manufacture": ManufactureSpec,
     "compaction": CompactionSpec,
     "shear": ShearSpec,
+    "output": OutputSpec,
 }
 
 
@@ -276,6 +288,7 @@ class FabricSpec:
     manufacture: ManufactureSpec = ManufactureSpec()
     compaction: CompactionSpec = CompactionSpec()
     shear: ShearSpec = ShearSpec()
+    output: OutputSpec = OutputSpec()
 
     @property
     def cell_mm(self) -> tuple[float, float]:

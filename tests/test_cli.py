@@ -69,7 +69,7 @@ def test_build_writes_folder_and_refuses_to_overwrite(tmp_path):
 
 
 def test_every_verb_has_help():
-    for verb in ("check", "build"):
+    for verb in ("check", "build", "run", "export", "report"):
         assert cli(verb, "--help").returncode == 0
 
 

@@ -14,7 +14,16 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import EllipseCollection
 
-__all__ = ["CAPTIONS", "VIEWS", "plot_histories", "render_cell", "render_views", "tile_cell"]
+__all__ = [
+    "CAPTIONS",
+    "VIEWS",
+    "plot_histories",
+    "plot_local_thickness",
+    "plot_study",
+    "render_cell",
+    "render_views",
+    "tile_cell",
+]
 
 #: View name -> (horizontal axis, vertical axis, depth axis, depth sign toward the viewer).
 VIEWS = {
@@ -117,6 +126,26 @@ def plot_histories(time, series: list[tuple[str, np.ndarray, float | None, bool]
         ax.set_ylabel(label)
     np.atleast_1d(axes)[0].set_title(title)
     np.atleast_1d(axes)[-1].set_xlabel("time (us)")
+    fig.tight_layout()
+    return fig
+
+
+def plot_local_thickness(step, thickness_mm, fvf, title: str):
+    """Local thickness (min, mean, max over the grid) against step, and the last frame's local
+    Vf map. ``step`` (F,); ``thickness_mm``, ``fvf`` (F, nx, ny). Returns the figure."""
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 3.8))
+    flat = thickness_mm.reshape(len(step), -1)
+    left.fill_between(step, np.nanmin(flat, 1), np.nanmax(flat, 1), alpha=0.3, label="min-max")
+    left.plot(step, np.nanmean(flat, 1), label="mean")
+    left.set_xlabel("step")
+    left.set_ylabel("local thickness (mm)")
+    left.legend(fontsize=8)
+    image = right.imshow(fvf[-1].T, origin="lower", cmap="viridis", aspect="auto")
+    fig.colorbar(image, ax=right, label="local Vf")
+    right.set_xlabel("grid cell along a (x)")
+    right.set_ylabel("grid cell along b (y)")
+    right.set_title(f"step {int(step[-1])}")
+    fig.suptitle(title)
     fig.tight_layout()
     return fig
 

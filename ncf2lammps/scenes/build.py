@@ -7,25 +7,30 @@ interrupted build never leaves a folder that looks complete.
 from __future__ import annotations
 
 import importlib
+import math
 import os
 import shutil
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 from .. import __version__
 from ..io.datafile import write_data
-from ..io.deck import render
+from ..io.deck import cadence, render
 from ..io.spectoml import write_spec
 from ..model import Model, build_model
 from ..numerics import ContactLaw, TimeStep, contact_law, guards, simulated_model, time_step
-from ..spec import FabricSpec
+from ..spec import FabricSpec, SpecError
 
 __all__ = [
+    "MAX_RANKS",
     "SCENES",
     "Build",
     "OutputExistsError",
     "applicable_scenes",
     "build",
+    "check_ranks",
+    "checkpoint_interval",
     "deck_context",
     "prepare_output",
 ]
@@ -45,6 +50,16 @@ def scene_module(name: str):
 def applicable_scenes(spec: FabricSpec) -> tuple[str, ...]:
     """The scenes a spec supports, in run order (manufacture needs a stitch)."""
     return tuple(s for s in SCENES if scene_module(s).applies(spec))
+
+
+#: Largest number of MPI ranks accepted (``--np``).
+MAX_RANKS = 4096
+
+
+def check_ranks(ranks: int) -> None:
+    """SpecError unless 1 <= ranks <= :data:`MAX_RANKS`."""
+    if not 1 <= ranks <= MAX_RANKS:
+        raise SpecError("--np", ranks, f"out of range: allowed [1, {MAX_RANKS}] MPI ranks")
 
 
 class OutputExistsError(FileExistsError):
@@ -69,8 +84,18 @@ def neighbor_skin(spec: FabricSpec, model: Model) -> float:
     return max(1.0, 0.1 * float(model.diameter.max()))
 
 
-def deck_context(spec: FabricSpec, model: Model, scene: str, data_file: str = "model.data") -> dict:
-    """The typed values every deck is rendered from (see templates/base.lmp.j2)."""
+def deck_context(
+    spec: FabricSpec,
+    model: Model,
+    scene: str,
+    data_file: str = "model.data",
+    restart_every: int = 0,
+) -> dict:
+    """The typed values every deck is rendered from (see templates/base.lmp.j2).
+
+    ``restart_every`` (steps) writes LAMMPS restart files from the deck itself, for decks run
+    by plain ``lmp`` (the Python driver writes its own checkpoints).
+    """
     step = time_step(spec, model)
     skin = neighbor_skin(spec, model)
     longest_bond = max(t.r0 for t in model.bond_types)
@@ -85,6 +110,8 @@ def deck_context(spec: FabricSpec, model: Model, scene: str, data_file: str = "m
         "comm_cutoff": float(model.diameter.max()) + skin + 1.5 * longest_bond,
         "thermo_every": spec.numerics.thermo_every,
         "guards": guards(spec, model),
+        "dump_every": spec.output.dump_every_steps if scene != "verify" else 0,
+        "restart_every": restart_every,
     }
 
 
@@ -99,8 +126,27 @@ def prepare_output(directory: str | os.PathLike, force: bool = False) -> tuple[P
     return final, partial
 
 
-def build(spec: FabricSpec, directory: str | os.PathLike, force: bool = False) -> Build:
-    """Write model.data, spec.resolved.toml and decks/in.<scene>.lmp into ``directory``."""
+def checkpoint_interval(spec: FabricSpec, deck: str) -> int:
+    """Steps between checkpoints: ``output.checkpoint_every_steps`` rounded up to a multiple of
+    the deck's :func:`~ncf2lammps.io.deck.cadence`, so none splits a recording window (0: none)."""
+    every = spec.output.checkpoint_every_steps
+    period = cadence(deck)
+    return period * math.ceil(every / period) if every else 0
+
+
+def build(
+    spec: FabricSpec,
+    directory: str | os.PathLike,
+    force: bool = False,
+    plain_lmp: bool = False,
+    finish: Callable[[Path, Model], None] | None = None,
+) -> Build:
+    """Write model.data, spec.resolved.toml and decks/in.<scene>.lmp into ``directory``.
+
+    ``plain_lmp`` renders scene decks that write their own restart files (for runs without
+    the Python driver); ``finish(folder, model)`` adds files before the folder is renamed
+    into place.
+    """
     model = build_model(spec)
     step = time_step(spec, model)
     final, partial = prepare_output(directory, force)
@@ -114,8 +160,13 @@ def build(spec: FabricSpec, directory: str | os.PathLike, force: bool = False) -
             if scene != "verify":
                 values.update(scene_module(scene).deck_values(spec, model))
             text = render(f"{scene}.lmp.j2", **values)
+            if plain_lmp and scene != "verify":
+                values["restart_every"] = checkpoint_interval(spec, text)
+                text = render(f"{scene}.lmp.j2", **values)
             (partial / "decks" / f"in.{scene}.lmp").write_text(text)
             decks[scene] = final / "decks" / f"in.{scene}.lmp"
+        if finish is not None:
+            finish(partial, model)
         if final.exists():
             shutil.rmtree(final)
         partial.rename(final)

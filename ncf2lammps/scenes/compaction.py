@@ -23,8 +23,9 @@ import numpy as np
 
 from .. import units
 from ..analysis.compaction import CompactionCurve
-from ..engine import Engine
-from ..io.lammpslog import read_ave_time
+from ..analysis.energy import energy_balance_residual
+from ..engine import Checkpoints, Engine
+from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import contact_law, inertial_strain_rate, time_step
 from ..spec import FabricSpec
@@ -33,6 +34,7 @@ __all__ = [
     "EXPERIMENT",
     "PAPER_MODEL_THICKNESS_1KPA_MM",
     "applies",
+    "collect",
     "deck_values",
     "execute",
     "figures",
@@ -92,10 +94,17 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
     }
 
 
-def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[dict, dict]:
-    """Run decks/in.compaction.lmp; return (attrs, datasets) for /compaction."""
-    engine.run_deck("decks/in.compaction.lmp", chunk=5000, on_chunk=progress)
-    history = read_ave_time("compaction.history.txt")
+def execute(
+    engine: Engine, spec: FabricSpec, model: Model, progress, checkpoint: Checkpoints | None = None
+) -> dict:
+    """Run decks/in.compaction.lmp (on every rank); no attributes of its own."""
+    engine.run_deck("decks/in.compaction.lmp", chunk=5000, on_chunk=progress, checkpoint=checkpoint)
+    return {}
+
+
+def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict]:
+    """(attrs, datasets) of /compaction from the scene's files in ``directory``."""
+    history = read_ave_time(directory / "compaction.history.txt")
     final_gap = _final_gap(spec, model)
     keep = history["v_gap"] >= final_gap * (1 - 1e-9)
     gap = history["v_gap"][keep]
@@ -115,15 +124,17 @@ def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[d
     imbalance = (
         float(np.sum(mismatch * travel) / np.sum(force * travel)) if np.any(travel) else math.nan
     )
+    potential = history["v_potential"][keep]
     t1, t18 = (curve.thickness_at(p) for p in REPORT_PRESSURES)
     attrs = {
-        "steps": engine.step,
+        "steps": scene_steps(directory / "compaction.final.txt"),
         "thickness_at_1kPa_mm": t1,
         "thickness_at_18kPa_mm": t18,
         "fvf_at_18kPa": units.from_micro(per_area, "mm") / t18 if math.isfinite(t18) else math.nan,
         "max_kinetic_ratio": float(ratio.max()) if len(ratio) else math.nan,
         "kinetic_ratio_target": spec.compaction.kinetic_ratio_target,
         "plate_force_imbalance": imbalance,
+        "energy_balance_residual": energy_balance_residual(work, kinetic, potential),
         "plate_speed_m_s": units.from_micro(plate_speed(spec, model), "m_s"),
         "final_fvf": spec.compaction.final_fvf,
     }

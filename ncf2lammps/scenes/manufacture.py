@@ -19,6 +19,7 @@ Stages, in order (templates/manufacture.lmp.j2 marks each with ``# stage:``):
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -29,9 +30,9 @@ from .. import units
 from ..analysis.geometry import max_overlap, min_xy_distance
 from ..analysis.plots import plot_histories
 from ..analysis.render3d import views_figure
-from ..engine import Engine, EngineError
+from ..engine import Checkpoints, Engine, EngineError
 from ..io.datafile import read_data
-from ..io.lammpslog import read_ave_time
+from ..io.lammpslog import read_ave_time, read_final
 from ..model import Model
 from ..numerics import contact_law, time_step
 from ..spec import FabricSpec
@@ -39,6 +40,7 @@ from ..spec import FabricSpec
 __all__ = [
     "ManufactureError",
     "applies",
+    "collect",
     "deck_values",
     "execute",
     "figures",
@@ -191,28 +193,50 @@ def _check_channels_and_overlap(engine: Engine, spec: FabricSpec, model: Model) 
     }
 
 
-def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[dict, dict]:
-    """Run decks/in.manufacture.lmp in ``engine``; return (attrs, datasets) for /manufacture."""
+#: Measures of the live checks at insertion (Python driver only), for :func:`collect`.
+CHECKS_FILE = "manufacture.checks.json"
+
+
+def execute(
+    engine: Engine, spec: FabricSpec, model: Model, progress, checkpoint: Checkpoints | None = None
+) -> dict:
+    """Run decks/in.manufacture.lmp (on every rank), checking the channels and the stitch
+    overlap at insertion; returns the checks' measures (also kept in :data:`CHECKS_FILE`)."""
     checks: dict = {}
 
     def on_stage(stage: str) -> None:
         if stage == "insertion":
             checks.update(_check_channels_and_overlap(engine, spec, model))
+            if engine.rank == 0:
+                Path(CHECKS_FILE).write_text(json.dumps(checks))
 
-    engine.run_deck("decks/in.manufacture.lmp", chunk=2000, on_stage=on_stage, on_chunk=progress)
-    history = read_ave_time("manufacture.history.txt")
+    engine.run_deck(
+        "decks/in.manufacture.lmp",
+        chunk=2000,
+        on_stage=on_stage,
+        on_chunk=progress,
+        checkpoint=checkpoint,
+    )
+    return checks
+
+
+def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict]:
+    """(attrs, datasets) of /manufacture from the scene's files in ``directory``."""
+    history = read_ave_time(directory / "manufacture.history.txt")
+    final = read_final(directory / "manufacture.final.txt")
+    checks = directory / CHECKS_FILE
     target = spec.manufacture.stitch_tension_N
-    tension = units.from_micro(engine.variable("tension"), "N")
+    tension = units.from_micro(final["tension"], "N")
     attrs = {
-        "steps": engine.step,
-        "thickness_mm": units.from_micro(engine.variable("thickness"), "mm"),
+        "steps": int(final["step"]),
+        "thickness_mm": units.from_micro(final["thickness"], "mm"),
         "stitch_tension_N": tension,
         "stitch_tension_target_N": target,
         "stitch_tension_error": (tension - target) / target,
         "tension_tolerance": spec.manufacture.tension_tolerance,
-        "kinetic_ratio": engine.variable("kinetic_ratio"),
+        "kinetic_ratio": final["kinetic_ratio"],
         "kinetic_ratio_target": spec.manufacture.kinetic_ratio_target,
-        **checks,
+        **(json.loads(checks.read_text()) if checks.is_file() else {}),
     }
     datasets = {
         "time_us": history["v_time"],

@@ -3,14 +3,78 @@
 from __future__ import annotations
 
 import os
+import re
+from datetime import UTC, datetime
 from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
 
-from ..io.results import read_results
-from .build import SCENES, scene_module
+from .. import __version__, units
+from ..analysis.plots import plot_local_thickness
+from ..analysis.trajectory import local_thickness
+from ..io.lammpslog import read_loop_times
+from ..io.results import mark_complete, read_results, write_root, write_scene
+from ..io.spectoml import dumps_spec
+from ..model import build_model
+from ..numerics import time_step
+from ..spec import load_spec
+from .build import SCENES, applicable_scenes, scene_module
 
-__all__ = ["write_report"]
+__all__ = ["collect_outputs", "write_report"]
+
+_LAMMPS_VERSION = re.compile(r"^LAMMPS \((\d+) (\w{3})\w* (\d{4})")
+_MONTHS = "Jan Feb Mar Apr May Jun Jul Aug Sep Oct Nov Dec".split()
+
+
+def _lammps_version(log: Path) -> str:
+    """``YYYYMMDD`` from the first line of a LAMMPS log, else ``unknown``."""
+    if not log.is_file():
+        return "unknown"
+    match = _LAMMPS_VERSION.match(log.read_text(errors="replace").split("\n", 1)[0])
+    if match is None:
+        return "unknown"
+    day, month, year = match.groups()
+    return f"{year}{_MONTHS.index(month) + 1:02d}{int(day):02d}"
+
+
+def collect_outputs(directory: str | os.PathLike) -> Path:
+    """results.h5 of a run made without the Python driver (an exported bundle run by plain
+    ``lmp``), from its spec.resolved.toml, logs and scene files; ``complete`` only if every
+    scene of the spec finished (left its ``<scene>.final.txt``)."""
+    directory = Path(directory)
+    spec = load_spec(directory / "spec.resolved.toml")
+    model = build_model(spec)
+    step = time_step(spec, model)
+    scenes = [s for s in applicable_scenes(spec) if (directory / f"{s}.final.txt").is_file()]
+    logs = [directory / f"log.{s}.lammps" for s in scenes]
+    results = directory / "results.h5"
+    write_root(
+        results,
+        {
+            "ncf2lammps_version": __version__,
+            "lammps_version": _lammps_version(directory / "log.lammps"),
+            "spec_toml": dumps_spec(spec),
+            "n_atoms": model.n_atoms,
+            "n_bonds": model.n_bonds,
+            "mpi_ranks": max((read_loop_times(log)[1] for log in logs), default=1),
+            "created": datetime.fromtimestamp(
+                (directory / "spec.resolved.toml").stat().st_mtime, UTC
+            ).isoformat(timespec="seconds"),
+            "driver": "plain lmp",
+            "dt_us": step.dt,
+            "dt_critical_us": step.critical,
+            "dt_governing": step.governing,
+            "dt_margin": step.margin,
+        },
+    )
+    for scene, log in zip(scenes, logs, strict=True):
+        attrs, datasets = scene_module(scene).collect(spec, model, directory)
+        attrs["wall_s"] = read_loop_times(log)[0]
+        write_scene(results, scene, attrs, datasets)
+    if scenes == list(applicable_scenes(spec)):
+        mark_complete(results)
+    return results
 
 
 def _format(value) -> str:
@@ -21,6 +85,36 @@ def _format(value) -> str:
     return str(value)
 
 
+def _trajectories(directory: Path) -> list[Path]:
+    """Local thickness and Vf of each scene's dump (MDAnalysis): group ``<scene>_trajectory``
+    of results.h5 (grid mean, min and max per frame) and a figure."""
+    dumps = [(s, directory / f"{s}.lammpstrj") for s in SCENES]
+    dumps = [(s, d) for s, d in dumps if d.is_file() and d.stat().st_size > 0]
+    if not dumps:
+        return []
+    model = build_model(load_spec(directory / "spec.resolved.toml"))
+    written = []
+    for scene, dump in dumps:
+        local = local_thickness(dump, model).results
+        thickness = units.from_micro(local.thickness, "mm")
+        frames = len(local.step)
+        datasets = {"step": local.step}
+        for name, values in (("thickness_mm", thickness), ("fvf", local.fvf)):
+            flat = values.reshape(frames, -1)
+            datasets[f"{name}_mean"] = np.nanmean(flat, axis=1)
+            datasets[f"{name}_min"] = np.nanmin(flat, axis=1)
+            datasets[f"{name}_max"] = np.nanmax(flat, axis=1)
+        attrs = {"grid": str(local.fvf.shape[1:]), "source": dump.name}
+        write_scene(directory / "results.h5", f"{scene}_trajectory", attrs, datasets)
+        fig = plot_local_thickness(
+            local.step, thickness, local.fvf, f"{scene}: local thickness, Vf"
+        )
+        written.append(directory / "figures" / f"{scene}_trajectory.png")
+        fig.savefig(written[-1], dpi=110)
+        plt.close(fig)
+    return written
+
+
 #: Per-scene error indicators shown first in summary.md: (scene, attribute, attribute of its
 #: limit; "" when there is none).
 INDICATORS = (
@@ -28,8 +122,10 @@ INDICATORS = (
     ("manufacture", "kinetic_ratio", "kinetic_ratio_target"),
     ("compaction", "max_kinetic_ratio", "kinetic_ratio_target"),
     ("compaction", "plate_force_imbalance", ""),
+    ("compaction", "energy_balance_residual", ""),
     ("shear", "max_kinetic_ratio", "kinetic_ratio_target"),
     ("shear", "work_virial_max_deviation", ""),
+    ("shear", "energy_balance_residual", ""),
 )
 
 
@@ -63,11 +159,16 @@ def _indicator_lines(results: dict) -> list[str]:
 
 
 def write_report(directory: str | os.PathLike) -> list[Path]:
-    """Write figures/*.png and summary.md for the run in ``directory``; returns the files."""
+    """Write figures/*.png and summary.md for the run in ``directory``; returns the files.
+
+    A bundle run by plain ``lmp`` (no results.h5 yet) is first collected into results.h5.
+    """
     directory = Path(directory)
-    results = read_results(directory / "results.h5")
+    if (directory / "in.run_all.lmp").is_file():
+        collect_outputs(directory)
     (directory / "figures").mkdir(exist_ok=True)
-    written: list[Path] = []
+    written = _trajectories(directory)
+    results = read_results(directory / "results.h5")
     for scene in SCENES:
         if scene in results:
             written += scene_module(scene).figures(results, directory)

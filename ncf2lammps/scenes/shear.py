@@ -21,11 +21,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import units
+from ..analysis.energy import energy_balance_residual
 from ..analysis.render3d import views_figure
 from ..analysis.shear import ShearCurve
-from ..engine import Engine
+from ..engine import Checkpoints, Engine
 from ..io.datafile import read_data
-from ..io.lammpslog import read_ave_time
+from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import inertial_strain_rate, simulated_model, time_step
 from ..spec import FabricSpec
@@ -35,6 +36,7 @@ __all__ = [
     "PAPER_MODEL_FORCE_45DEG_N_PER_M",
     "REFERENCE_PRESSURE_KPA",
     "applies",
+    "collect",
     "deck_values",
     "execute",
     "figures",
@@ -133,11 +135,18 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
     }
 
 
-def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[dict, dict]:
-    """Run decks/in.shear.lmp; return (attrs, datasets) for /shear."""
-    engine.run_deck("decks/in.shear.lmp", chunk=2000, on_chunk=progress)
-    stress = read_ave_time("shear.history.txt")
-    box = read_ave_time("shear.box.txt")
+def execute(
+    engine: Engine, spec: FabricSpec, model: Model, progress, checkpoint: Checkpoints | None = None
+) -> dict:
+    """Run decks/in.shear.lmp (on every rank); no attributes of its own."""
+    engine.run_deck("decks/in.shear.lmp", chunk=2000, on_chunk=progress, checkpoint=checkpoint)
+    return {}
+
+
+def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict]:
+    """(attrs, datasets) of /shear from the scene's files in ``directory``."""
+    stress = read_ave_time(directory / "shear.history.txt")
+    box = read_ave_time(directory / "shear.box.txt")
     curve = ShearCurve(
         box["v_g"],
         box["v_box_xy"],
@@ -153,10 +162,13 @@ def execute(engine: Engine, spec: FabricSpec, model: Model, progress) -> tuple[d
     work = units.from_micro(curve.force_work, "N_m")
     loaded = np.abs(force) > 0.1 * np.abs(force).max()
     attrs = {
-        "steps": engine.step,
+        "steps": scene_steps(directory / "shear.final.txt"),
         "force_at_45deg_N_per_m": units.from_micro(curve.force_at(math.pi / 4), "N_m"),
         "force_at_final_N_per_m": units.from_micro(curve.force_at(curve.angle[-1]), "N_m"),
         "max_kinetic_ratio": curve.max_kinetic_ratio(LOADED_FRACTION * final),
+        "energy_balance_residual": energy_balance_residual(
+            curve.work, stress["v_kinetic"], stress["v_potential"]
+        ),
         "kinetic_ratio_target": spec.shear.kinetic_ratio_target,
         "work_virial_max_deviation": float(np.max(np.abs(work[loaded] / force[loaded] - 1))),
         "shear_rate_deg_us": math.degrees(shear_rate(spec, model)),

@@ -1,0 +1,157 @@
+"""HPC (issue 8): the exported bundle under plain `mpiexec -n 2 lmp`, 1 against 2 MPI ranks,
+and a run killed mid-scene then resumed from its checkpoint, each against a Python-driven run.
+
+All on the coarse case with fast loading (inertial number 0.1 for compaction, 0.2 for shear,
+compaction to Vf 0.5, shear to 20 deg) and checkpoints and dumps every 20,000 steps; the
+manufacture settings are the case's, so the Python reference starts from the session's
+manufactured cell. At 45 deg this rate trips the overlap guard, so the shear force compared is
+F_N averaged over the last quarter of the angle range (15-20 deg): a single record interval
+at one angle scatters by ~7 % between manufactured cells that differ only by round-off, the
+quarter mean by ~1 % (measured: bundle 6.40, Python 6.46, 2 ranks 6.38, 1 rank 6.48 N/m).
+"""
+
+from __future__ import annotations
+
+import json
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import h5py
+import pytest
+from conftest import case_spec, copy_run
+
+from ncf2lammps import run_scenes
+from ncf2lammps.io.results import read_results
+from ncf2lammps.io.spectoml import write_spec
+from ncf2lammps.scenes.run import mpiexec
+
+FAST = {
+    "compaction": {"inertial_number": 0.1, "final_fvf": 0.5},
+    "shear": {"inertial_number": 0.2, "final_angle_deg": 20.0},
+    "output": {"checkpoint_every_steps": 20_000, "dump_every_steps": 20_000},
+}
+
+
+def fast_spec():
+    return case_spec("hpt310-coarse").replace(**FAST)
+
+
+def figures(results: dict) -> tuple[float, float]:
+    """(thickness at 1 kPa in mm, mean F_N over the last quarter of the angle range in N/m)."""
+    shear = results["shear"]
+    last = shear["angle_deg"] >= 0.75 * shear["attrs"]["final_angle_deg"]
+    return (
+        results["compaction"]["attrs"]["thickness_at_1kPa_mm"],
+        float(shear["force_N_per_m"][last].mean()),
+    )
+
+
+def cli(*args, **kwargs):
+    return subprocess.run(
+        [sys.executable, "-m", "ncf2lammps.cli", *args], capture_output=True, text=True, **kwargs
+    )
+
+
+@pytest.fixture(scope="module")
+def reference(coarse_manufactured, tmp_path_factory):
+    """Python-driven compaction and shear on one rank from the session's manufactured cell."""
+    folder = copy_run(coarse_manufactured, tmp_path_factory.mktemp("reference") / "run")
+    return read_results(run_scenes(fast_spec(), folder, ["compaction", "shear"]))
+
+
+def test_bundle_runs_under_mpiexec_lmp_and_its_report_matches_python(reference, tmp_path):
+    """t@1 kPa and F_N(15-20 deg) of the bundle on 2 ranks (its own manufacture included) within
+    2 % of the Python-driven run on 1 rank."""
+    write_spec(tmp_path / "spec.toml", fast_spec())
+    bundle = tmp_path / "bundle"
+    out = cli("export", str(tmp_path / "spec.toml"), "-o", str(bundle), "--np", "2")
+    assert out.returncode == 0, out.stderr
+    for name in ("in.run_all.lmp", "job.slurm", "README.md", "model.data", "decks/in.shear.lmp"):
+        assert (bundle / name).is_file()
+    assert "python" not in (bundle / "in.run_all.lmp").read_text()
+    lmp = Path(mpiexec()).parent / "lmp"
+    done = subprocess.run(
+        [mpiexec(), "-n", "2", str(lmp), "-in", "in.run_all.lmp"],
+        cwd=bundle,
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stdout[-2000:]
+    out = cli("report", str(bundle))
+    assert out.returncode == 0, out.stderr
+    results = read_results(bundle / "results.h5")
+    assert bool(results["attrs"]["complete"]) and results["attrs"]["mpi_ranks"] == 2
+    for got, want in zip(figures(results), figures(reference), strict=True):
+        assert got == pytest.approx(want, rel=0.02)
+    assert (bundle / "figures" / "compaction_trajectory.png").is_file()
+    assert len(results["compaction_trajectory"]["fvf_mean"]) >= 2
+    assert list(bundle.glob("compaction.checkpoint.*.restart"))
+
+
+def test_one_and_two_ranks_agree(reference, coarse_manufactured, tmp_path):
+    """t@1 kPa and F_N(15-20 deg) of compaction and shear on 2 ranks (Python driver on every rank
+    under mpiexec) within 2 % of 1 rank, from the same manufactured cell."""
+    folder = copy_run(coarse_manufactured, tmp_path / "run")
+    results = read_results(run_scenes(fast_spec(), folder, ["compaction", "shear"], ranks=2))
+    for got, want in zip(figures(results), figures(reference), strict=True):
+        assert got == pytest.approx(want, rel=0.02)
+
+
+def _checkpoint_step(folder: Path, scene: str) -> int:
+    try:
+        return json.loads((folder / f"{scene}.checkpoint.json").read_text())["step"]
+    except (OSError, ValueError, KeyError):
+        return -1
+
+
+def test_killed_run_resumes_from_its_checkpoint(reference, coarse_manufactured, tmp_path):
+    """`run` killed (SIGKILL) in the relaxation stage of manufacture leaves results.h5 marked
+    incomplete and no summary; `run --resume` ends within 1 % of unbroken runs: manufactured
+    thickness and stitch tension, and t@1 kPa of the compaction that follows."""
+    spec_file = tmp_path / "spec.toml"
+    write_spec(spec_file, fast_spec())
+    folder = tmp_path / "run"
+    command = [sys.executable, "-m", "ncf2lammps.cli", "run", str(spec_file), "-o", str(folder)]
+    command += ["--scene", "compaction"]
+    process = subprocess.Popen(command, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 300
+    while _checkpoint_step(folder, "manufacture") < 100_000 and process.poll() is None:
+        assert time.monotonic() < deadline
+        time.sleep(0.2)
+    process.send_signal(signal.SIGKILL)
+    process.wait()
+    with h5py.File(folder / "results.h5") as fh:
+        assert not fh.attrs["complete"] and "manufacture" not in fh
+    assert not (folder / "summary.md").exists()
+    killed_at = _checkpoint_step(folder, "manufacture")
+    assert 100_000 <= killed_at < 200_000  # the relaxation stage, with its controller state
+    out = cli("run", str(spec_file), "-o", str(folder), "--scene", "compaction", "--resume")
+    assert out.returncode == 0, out.stderr
+    results = read_results(folder / "results.h5")
+    assert bool(results["attrs"]["complete"]) and (folder / "summary.md").is_file()
+    assert results["manufacture"]["attrs"]["resumed"]
+    unbroken = read_results(coarse_manufactured / "results.h5")["manufacture"]["attrs"]
+    for key in ("thickness_mm", "stitch_tension_N"):
+        assert results["manufacture"]["attrs"][key] == pytest.approx(unbroken[key], rel=0.01)
+    key = "thickness_at_1kPa_mm"
+    assert results["compaction"]["attrs"][key] == pytest.approx(
+        reference["compaction"]["attrs"][key], rel=0.01
+    )
+
+
+def test_resume_refuses_another_spec_and_bad_ranks(tmp_path):
+    """Bad input exits 2 with one line naming the option."""
+    spec = str(Path(__file__).parent.parent / "runs" / "mat-only" / "spec.toml")
+    out = cli("run", spec, "-o", str(tmp_path / "none"), "--resume")
+    assert out.returncode == 2 and "--resume" in out.stderr and out.stderr.count("\n") == 1
+    for args in (
+        ["run", spec, "-o", str(tmp_path / "a"), "--np", "0"],
+        ["export", spec, "-o", str(tmp_path / "b"), "--time", "1 day"],
+    ):
+        out = cli(*args)
+        assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr
+        assert "Traceback" not in out.stderr
+    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
