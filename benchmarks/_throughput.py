@@ -14,7 +14,7 @@ import sys
 import time
 from pathlib import Path
 
-from ncf2lammps import load_spec
+from ncf2lammps import load_spec, spec_from_dict
 from ncf2lammps.engine import Engine
 from ncf2lammps.scenes.build import build
 
@@ -25,10 +25,11 @@ MPIEXEC = shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or "mpi
 
 def paper_mat_folder(directory: Path, plate_speed_m_s: float = 3.0) -> tuple[Path, int]:
     """Build the benchmark folder; returns (folder, atoms)."""
-    spec = load_spec(ROOT / "runs" / "hpt310" / "spec.toml")
-    spec = spec.replace(
-        stitch=None, compaction={"final_fvf": 0.33, "plate_speed_m_s": plate_speed_m_s}
-    )
+    data = load_spec(ROOT / "runs" / "hpt310" / "spec.toml").to_dict()
+    data.pop("stitch")
+    data["cell"] = {"length_mm": 11.2, "width_mm": 5.08}  # the stitch repeat of runs/hpt310
+    data["compaction"].update(final_fvf=0.33, plate_speed_m_s=plate_speed_m_s)
+    spec = spec_from_dict(data)
     built = build(spec, directory, force=True)
     return built.directory, built.model.n_atoms
 

@@ -15,7 +15,11 @@ from . import units
 from .geometry import SEGMENT_KINDS, ply_chains, ply_layout, sample_closed_polyline, stitch_path
 from .spec import FabricSpec, SpecError
 
-__all__ = ["AtomType", "BondType", "Box", "Model", "build_model"]
+__all__ = ["MAX_BEADS", "AtomType", "BondType", "Box", "Model", "build_model"]
+
+#: Largest model built (about 5 GB of arrays and data file): ten times the million beads that are
+#: a normal input. A spec asking for more is refused before any array is allocated.
+MAX_BEADS = 10_000_000
 
 
 @dataclass(frozen=True)
@@ -194,6 +198,14 @@ def build_model(spec: FabricSpec) -> Model:
             areal, rho, chain_length, across, z, fvf, d_nominal, ratio, f"ply[{index}]"
         )
         z += areal / (fvf * rho)
+        planned = n_beads + layout.n_chains * layout.beads_per_chain
+        if planned > MAX_BEADS:
+            raise SpecError(
+                "discretisation.chain_diameter_um",
+                d_nominal,
+                f"gives more than {MAX_BEADS:,} beads on this cell ({planned:,} by ply[{index}]);"
+                " raise the chain diameter or shrink the cell",
+            )
         beads = ply_chains(layout, along_x, across).reshape(-1, 3)
         d, s = layout.diameter, layout.spacing
         area = np.pi * d**2 / 4.0

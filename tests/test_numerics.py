@@ -61,3 +61,13 @@ def test_scalings_reach_the_data_file_and_scale_the_limits(
     fibre_k = [t.k for t in simulated.bond_types if t.role == "fibre"]
     physical_k = [t.k for t in model.bond_types if t.role == "fibre"]
     np.testing.assert_allclose(fibre_k, np.multiply(physical_k, stiffness_scaling), rtol=1e-12)
+
+
+def test_a_model_beyond_max_beads_is_refused_before_allocation():
+    """1 um chains on the tiny cell would be 1.2e10 beads: one-line SpecError naming the field."""
+    from ncf2lammps.model import MAX_BEADS
+    from ncf2lammps.spec import SpecError
+
+    with pytest.raises(SpecError, match="chain_diameter_um") as err:
+        build_model(tiny_spec(discretisation={"chain_diameter_um": 1.0}))
+    assert f"{MAX_BEADS:,}" in str(err.value) and "\n" not in str(err.value)

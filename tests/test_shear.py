@@ -89,7 +89,7 @@ def test_results_follow_the_contract(coarse_sheared):
     assert group["angle_deg"][-1] == pytest.approx(COARSE_TEST_ANGLE, abs=0.2)
     for name in ("shear_22.5deg.data", "shear_25deg.data"):
         assert (folder / name).is_file()
-    for name in ("shear_force.png", "shear_views_22.5deg.png", "shear_views_25deg.png"):
+    for name in ("shear_force.png", "shear_views_22.5deg.png"):  # views at the paper's angles
         assert (folder / "figures" / name).stat().st_size > 10_000
 
 
