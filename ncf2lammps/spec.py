@@ -166,7 +166,7 @@ class DiscretisationSpec:
 class MatSpec:
     """The homogeneous fibrous mat before stitching."""
 
-    initial_fvf: float = _f(0.30, 0.0, 0.785, lo_open=True, unit="-", source="paper, eq. (1)")
+    initial_fvf: float = _f(0.30, 0.01, 0.785, unit="-", source="paper, eq. (1)")
 
 
 @dataclass(frozen=True)
