@@ -19,6 +19,7 @@ import logging
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..io.datafile import LammpsData
 from .plots import CAPTIONS, VIEWS, render_views, tile_cell
 
 __all__ = ["render_view", "views_figure"]
@@ -166,3 +167,17 @@ def views_figure(
         ax.imshow(image, interpolation="none")
         ax.set_axis_off()
     return fig
+
+
+def state_views(state: LammpsData, title: str):
+    """:func:`views_figure` of a state read from a data file (its box tilt and stitch label)."""
+    labels = state.atom_labels
+    return views_figure(
+        state.positions,
+        state.diameter,
+        state.type_id,
+        state.box.hi - state.box.lo,
+        title,
+        tilt_xy=float(state.box.tilt[0]),
+        stitch_type=labels.index("stitch") if "stitch" in labels else None,
+    )

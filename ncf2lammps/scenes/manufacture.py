@@ -29,7 +29,7 @@ import numpy as np
 from .. import units
 from ..analysis.geometry import max_overlap, min_xy_distance
 from ..analysis.plots import plot_histories
-from ..analysis.render3d import views_figure
+from ..analysis.render3d import state_views
 from ..engine import Checkpoints, Engine, EngineError
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, read_final
@@ -254,16 +254,7 @@ def figures(results: dict, directory: Path) -> list[Path]:
     written = []
     state_file = directory / "manufactured.data"
     if state_file.is_file():
-        state = read_data(state_file)
-        labels = state.atom_labels
-        fig = views_figure(
-            state.positions,
-            state.diameter,
-            state.type_id,
-            state.box.hi - state.box.lo,
-            "as manufactured",
-            stitch_type=labels.index("stitch") if "stitch" in labels else None,
-        )
+        fig = state_views(read_data(state_file), "as manufactured")
         written.append(directory / "figures" / "manufacture_views.png")
         fig.savefig(written[-1], dpi=110)
         plt.close(fig)

@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import units
 from ..analysis.energy import energy_balance_residual
-from ..analysis.render3d import views_figure
+from ..analysis.render3d import state_views
 from ..analysis.shear import ShearCurve
 from ..engine import Checkpoints, Engine
 from ..io.datafile import read_data
@@ -207,17 +207,7 @@ def figures(results: dict, directory: Path) -> list[Path]:
         state_file = directory / f"shear_{angle:g}deg.data"
         if not state_file.is_file():
             continue
-        state = read_data(state_file)
-        labels = state.atom_labels
-        fig = views_figure(
-            state.positions,
-            state.diameter,
-            state.type_id,
-            state.box.hi - state.box.lo,
-            f"sheared {angle:g} deg",
-            tilt_xy=float(state.box.tilt[0]),
-            stitch_type=labels.index("stitch") if "stitch" in labels else None,
-        )
+        fig = state_views(read_data(state_file), f"sheared {angle:g} deg")
         written.append(directory / "figures" / f"shear_views_{angle:g}deg.png")
         fig.savefig(written[-1], dpi=110)
         plt.close(fig)
