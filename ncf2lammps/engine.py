@@ -486,7 +486,7 @@ class Engine:
         expanded them the first time (every ``$(...)`` keeps its original value; lines marked
         ``# resume: live`` are evaluated afresh), with ``read_restart`` of the checkpoint for
         the first read and without the runs and the commands that changed or wrote the state
-        (:data:`_NOT_REPLAYED`); internal variables get their checkpointed values; that run
+        (:data:`_NOT_REPLAYED`); internal variables are defined with their checkpointed values; that run
         goes on from the checkpoint to its planned end; the deck continues after it.
         """
         state = journal.load()
@@ -511,12 +511,15 @@ class Engine:
                 text = f"read_restart {state['restart']}"
             elif not read or words[0] in _NOT_REPLAYED:
                 continue
+            elif (internal := _INTERNAL.match(text)) and internal.group(1) in state["internal"]:
+                # Defined with its checkpointed value, so that a fix created after it (fix
+                # controller reads its control variable once, when defined) starts from it too.
+                name = internal.group(1)
+                text = f"variable {name} internal {state['internal'][name]!r}"
             journal.command(entry[1], entry[2])
             self.command(_APPEND.sub(r"\1append\2", text))
             if words[0] == "dump":
                 self.command(f"dump_modify {words[1]} append yes")
-        for name, value in state["internal"].items():
-            self.command(f"variable {name} internal {value!r}")
         _, number, start, end = holding
         journal.run(number, start, end)
         if not (finished and finished[0][2] == step):

@@ -7,7 +7,7 @@ import pytest
 from conftest import CASES
 
 from ncf2lammps import build
-from ncf2lammps.engine import Engine
+from ncf2lammps.engine import Checkpoints, Engine
 from ncf2lammps.io.datafile import read_data, write_data
 from ncf2lammps.io.deck import DeckValueError, render
 
@@ -63,3 +63,62 @@ def test_deck_fails_loudly_on_missing_value():
 
     with pytest.raises(jinja2.UndefinedError):
         render("verify.lmp.j2", version="x", scene="verify", data_file="model.data")
+
+
+ONE_ATOM = """one atom
+
+1 atoms
+1 atom types
+0 1 xlo xhi
+0 1 ylo yhi
+0 1 zlo zhi
+
+Masses
+
+1 1.0
+
+Atoms # atomic
+
+1 1 0.5 0.5 0.5
+"""
+CONTROLLED_DECK = """units lj
+read_data one_atom.data
+variable gain equal 0.01
+variable control internal 0.0
+variable process equal v_control
+fix feedback all controller 1 $(v_gain/dt) 1.0 0.0 0.0 v_process 10.0 control
+run 200
+"""
+
+
+class _Killed(Exception):
+    pass
+
+
+def _controlled_run(folder, resume: bool, kill_at: int | None = None) -> float:
+    """Run CONTROLLED_DECK (checkpoints every 50 steps, chunks of 25) and return the controlled
+    variable; ``kill_at`` stops it by an exception after that step, as a kill would."""
+
+    def on_chunk(stage, step, end):
+        if kill_at is not None and step >= kill_at:
+            raise _Killed
+
+    folder.mkdir(exist_ok=True)
+    (folder / "one_atom.data").write_text(ONE_ATOM)
+    (folder / "in.controlled.lmp").write_text(CONTROLLED_DECK)
+    checkpoints = Checkpoints("controlled", every=50, resume=resume)
+    with Engine(folder, log=None) as engine:
+        engine.run_deck("in.controlled.lmp", 25, on_chunk=on_chunk, checkpoint=checkpoints)
+        return engine.variable("control")
+
+
+def test_resume_restores_a_feedback_controller_exactly(tmp_path):
+    """A controller's output after kill at step 125 (last checkpoint 100) and resume equals the
+    unbroken run's to 1e-12: `fix controller` reads its control variable once, when defined, so
+    the replayed definition must carry the checkpointed value (a reset to 0 gives 6.3, not 8.7)."""
+    unbroken = _controlled_run(tmp_path / "unbroken", resume=False)
+    assert unbroken == pytest.approx(10.0 * (1 - 0.99**200), rel=1e-9)  # c += 0.01 (10 - c)
+    with pytest.raises(_Killed):
+        _controlled_run(tmp_path / "killed", resume=False, kill_at=125)
+    resumed = _controlled_run(tmp_path / "killed", resume=True)
+    assert resumed == pytest.approx(unbroken, rel=1e-12)
