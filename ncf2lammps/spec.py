@@ -211,6 +211,9 @@ class ManufactureSpec:
     )
     control_time_us: float = _f(20.0, 0.01, 1e6, unit="us", source="tension controller, model")
     damping_time_us: float = _f(50.0, 0.01, 1e6, unit="us", source="docs/manufacture.md")
+    stitch_damping_time_us: float | None = _f(
+        None, 0.01, 1e6, unit="us", source="None: damping_time_us; docs/manufacture.md"
+    )
     tension_tolerance: float = _f(0.01, 1e-4, 0.2, unit="-", source="issue 3: within 5 %")
     kinetic_ratio_target: float = _f(1e-3, 1e-9, 0.5, unit="-", source="DESIGN 8: < 1 %")
     max_ramp_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")

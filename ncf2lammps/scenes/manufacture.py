@@ -147,6 +147,7 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
         "needle_steps": math.ceil((radius - start_radius) / speed / dt) + damping_steps,
         "insertion_steps": damping_steps,
         "damping_time": settings.damping_time_us,
+        "stitch_damping_time": settings.stitch_damping_time_us or settings.damping_time_us,
         "seed": 4928,
         "tension": units.to_micro(settings.stitch_tension_N, "N"),
         "strain_rate": settings.pretension_strain_rate_per_us,
