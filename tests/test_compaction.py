@@ -75,7 +75,11 @@ def test_curve_thickness_at_is_exact_on_a_line():
 
 
 def test_mat_only_compacts_without_manufacture(tmp_path):
-    spec = case_spec("mat-only").replace(compaction={"inertial_number": 0.5, "final_fvf": 0.5})
+    """All scenes of a mat without stitch: no manufacture; compaction and shear from the mat."""
+    spec = case_spec("mat-only").replace(
+        compaction={"inertial_number": 0.5, "final_fvf": 0.5},
+        shear={"inertial_number": 0.5, "final_angle_deg": 5.0},
+    )
     results = read_results(run(spec, tmp_path / "run"))
-    assert "manufacture" not in results
+    assert "manufacture" not in results and "shear" in results
     assert results["compaction"]["attrs"]["thickness_at_1kPa_mm"] > 0.3
