@@ -43,15 +43,17 @@ def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps m
     path = Path(path)
     box = model.box
     n_atoms, n_bonds = model.n_atoms, model.n_bonds
-    angle_counts, angle_tables = [], []
-    if model.n_angles:
+    angle_counts, angle_labels, angle_tables = [], [], []
+    if model.n_angles:  # LAMMPS wants every type label before the first coefficient
         harmonic = model.angle_style == "harmonic"
         angle_counts = [f"{model.n_angles} angles", f"{len(model.angle_types)} angle types"]
-        angle_tables = [
+        angle_labels = [
             "Angle Type Labels",
             "",
             *(f"{i + 1} {t.name}" for i, t in enumerate(model.angle_types)),
             "",
+        ]
+        angle_tables = [
             f"Angle Coeffs # {model.angle_style}",
             "",
             *(
@@ -82,6 +84,7 @@ def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps m
         "",
         *(f"{i + 1} {t.name}" for i, t in enumerate(model.bond_types)),
         "",
+        *angle_labels,
         "Bond Coeffs # harmonic",
         "",
         *(f"{i + 1} {t.k:.17g} {t.r0:.17g}" for i, t in enumerate(model.bond_types)),
