@@ -175,9 +175,11 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
             continue
         vertex = simulated.angles[in_type, 1]
         k_zigzag = 4.0 * angle_type.bending_stiffness / angle_type.spacing**3
-        m_min = float(mass[vertex].min())
-        limits[f"angle {angle_type.name}"] = float(np.sqrt(m_min / k_zigzag))
         for t in np.unique(simulated.type_id[vertex]):
+            m_min = float(mass[vertex[simulated.type_id[vertex] == t]].min())
+            key = f"bending {simulated.atom_types[t].name}"
+            limit = float(np.sqrt(m_min / k_zigzag))
+            limits[key] = min(limits.get(key, limit), limit)
             bending[t] = max(bending[t], 2.0 * k_zigzag)
     law = contact_law(spec, model)
     limits["contact"] = float(np.sqrt(float(mass.min()) / law.stiffness))

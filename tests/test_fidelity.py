@@ -241,7 +241,7 @@ def test_time_step_includes_bending():
     t = bent.angle_types[0]
     mass = bent.mass[bent.type_id == 0].min()
     expected = np.sqrt(mass / (4 * t.bending_stiffness / t.spacing**3))
-    assert step_bent.limits[f"angle {t.name}"] == pytest.approx(expected, rel=1e-12)
+    assert step_bent.limits[f"bending {bent.atom_types[0].name}"] == pytest.approx(expected, 1e-12)
     assert step_bent.critical == pytest.approx(min(step_bent.limits.values()), rel=1e-12)
     assert step_bent.dt < 0.9 * step_plain.dt
     assert step_bent.dt == pytest.approx(bent_spec.numerics.dt_fraction * step_bent.critical)
