@@ -343,6 +343,11 @@ class Engine:
         return int(self.lmp.extract_global("nbonds"))
 
     @property
+    def nangles(self) -> int:
+        """Number of angles in the system (0 without an angle style)."""
+        return int(self.lmp.extract_global("nangles"))
+
+    @property
     def step(self) -> int:
         """Current time step number."""
         return int(self.lmp.extract_global("ntimestep"))

@@ -2,20 +2,23 @@
 
 All quantities are in LAMMPS ``micro`` units (um, pg, us, nN, kPa); indices are 0-based. Beads
 stand for cylinders: bead density is set so that mass per chain length equals
-``rho pi d^2 / 4`` (0.75 rho at spacing d/2), and volumes and Vf always use the cylinder volume.
+``fill rho pi d^2 / 4`` (0.75 rho at spacing d/2 and fill 1), and volumes and Vf always use the
+fibre volume, ``fill`` times the cylinder's (``fill``: the chain's internal fibre volume fraction,
+1 in the paper's model). Options beyond the paper (docs/fidelity.md) are off by default.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import units
 from .geometry import SEGMENT_KINDS, ply_chains, ply_layout, sample_closed_polyline, stitch_path
+from .geometry.mat import Waviness, wavy_chains
 from .spec import FabricSpec, SpecError
 
-__all__ = ["MAX_BEADS", "AtomType", "BondType", "Box", "Model", "build_model"]
+__all__ = ["MAX_BEADS", "AngleType", "AtomType", "BondType", "Box", "Model", "build_model"]
 
 #: Largest model built (about 5 GB of arrays and data file): ten times the million beads that are
 #: a normal input. A spec asking for more is refused before any array is allocated.
@@ -28,7 +31,8 @@ class AtomType:
 
     Attributes: name; role ``"fibre"`` or ``"stitch"``; diameter (um); material density
     (pg/um^3); axial modulus E (kPa); ``angle_deg`` of a ply's chains (0: along x, 90: along y;
-    None for the stitch).
+    None for the stitch); ``fill``: fibre (or yarn) volume fraction inside the chain, so that
+    its fibre cross-section is ``fill pi d^2 / 4``.
     """
 
     name: str
@@ -37,6 +41,7 @@ class AtomType:
     density: float
     modulus: float
     angle_deg: float | None = None
+    fill: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -52,6 +57,24 @@ class BondType:
     k: float
     r0: float
     axial_stiffness: float
+
+
+@dataclass(frozen=True)
+class AngleType:
+    """A bending angle type along fibre chains (docs/fidelity.md).
+
+    ``angle_style harmonic``: ``E = K (theta - theta0)^2``, ``K = EI / (2 s)``; ``cosine``:
+    ``E = K (1 + cos theta)``, ``K = EI / s`` (rest at 180 deg). Attributes: name; role;
+    ``k`` = LAMMPS K (energy, pg um^2/us^2); ``theta0`` (deg); ``bending_stiffness`` = EI
+    (nN um^2); ``spacing`` = the chain length per vertex bead s (um).
+    """
+
+    name: str
+    role: str
+    k: float
+    theta0: float
+    bending_stiffness: float
+    spacing: float
 
 
 @dataclass(frozen=True)
@@ -93,6 +116,10 @@ class Model:
         needle_points: (P, 2) float, needle hole centres (x, y) (um); empty without stitch.
         needle_diameter: diameter of the needles (um); 0 without stitch.
         faces_z: (bottom, top) heights of the stitch underlap and loop faces (um).
+        angles: (A, 3) int, bead indices (end, vertex, end) of bending angles; empty unless
+            ``discretisation.bending`` is on.
+        angle_type: (A,) int, index into :attr:`angle_types`.
+        angle_types: the angle type table; ``angle_style`` its LAMMPS style (``"none"``: none).
     """
 
     positions: np.ndarray
@@ -110,6 +137,10 @@ class Model:
     needle_points: np.ndarray
     needle_diameter: float
     faces_z: tuple[float, float]
+    angles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.int64))
+    angle_type: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    angle_types: tuple[AngleType, ...] = ()
+    angle_style: str = "none"
 
     def __post_init__(self):
         n = len(self.positions)
@@ -121,12 +152,14 @@ class Model:
             "mol_id": (self.mol_id, (n,)),
             "bonds": (self.bonds, (len(self.bonds), 2)),
             "bond_type": (self.bond_type, (len(self.bonds),)),
+            "angles": (self.angles, (len(self.angles), 3)),
+            "angle_type": (self.angle_type, (len(self.angles),)),
         }
         for name, (array, shape) in checks.items():
             if np.shape(array) != shape:
                 raise ValueError(f"Model.{name} must have shape {shape}, got {np.shape(array)}")
         floats = ("positions", "diameter", "density", "needle_points")
-        for name in (*floats, "type_id", "mol_id", "bonds", "bond_type"):
+        for name in (*floats, "type_id", "mol_id", "bonds", "bond_type", "angles", "angle_type"):
             dtype = np.float64 if name in floats else np.int64
             object.__setattr__(self, name, _frozen(getattr(self, name), dtype))
         for name in ("lo", "hi", "tilt"):
@@ -135,6 +168,10 @@ class Model:
             raise ValueError("Model.type_id must index atom_types")
         if len(self.bonds) and (self.bond_type.max() >= len(self.bond_types)):
             raise ValueError("Model.bond_type must index bond_types")
+        if len(self.angles) and (self.angle_type.max() >= len(self.angle_types)):
+            raise ValueError("Model.angle_type must index angle_types")
+        if bool(len(self.angles)) != (self.angle_style != "none"):
+            raise ValueError("Model.angle_style must be 'none' exactly when there are no angles")
 
     @property
     def n_atoms(self) -> int:
@@ -145,6 +182,11 @@ class Model:
     def n_bonds(self) -> int:
         """Number of bonds."""
         return len(self.bonds)
+
+    @property
+    def n_angles(self) -> int:
+        """Number of bending angles."""
+        return len(self.angles)
 
     @property
     def mass(self) -> np.ndarray:
@@ -188,6 +230,10 @@ def build_model(spec: FabricSpec) -> Model:
     n_beads = n_chains = 0
     z = 0.0
     fibre_volume = 0.0
+    fill = spec.discretisation.chain_internal_fvf
+    waviness = _waviness(spec)
+    angle_types: list[AngleType] = []
+    angles, angle_type = [], []
     for index, ply in enumerate(spec.plies):
         along_x = ply.angle_deg == 0.0
         rho = units.to_micro(ply.density_g_cm3, "g_cm3")
@@ -195,10 +241,26 @@ def build_model(spec: FabricSpec) -> Model:
         modulus = units.to_micro(ply.E_GPa, "GPa")
         chain_length, across = (length, width) if along_x else (width, length)
         layout = ply_layout(
-            areal, rho, chain_length, across, z, fvf, d_nominal, ratio, f"ply[{index}]"
+            areal,
+            rho,
+            chain_length,
+            across,
+            z,
+            fvf,
+            d_nominal,
+            ratio,
+            f"ply[{index}]",
+            fill=fill,
+            waviness=waviness,
         )
         z += areal / (fvf * rho)
-        planned = n_beads + layout.n_chains * layout.beads_per_chain
+        per_chain = layout.beads_per_chain
+        if waviness is not None:
+            stretch = waviness.length_factor(chain_length)
+            per_chain = round(stretch * chain_length / layout.spacing) + len(
+                waviness.vertices(chain_length)
+            )
+        planned = n_beads + layout.n_chains * per_chain
         if planned > MAX_BEADS:
             raise SpecError(
                 "discretisation.chain_diameter_um",
@@ -206,27 +268,55 @@ def build_model(spec: FabricSpec) -> Model:
                 f"gives more than {MAX_BEADS:,} beads on this cell ({planned:,} by ply[{index}]);"
                 " raise the chain diameter or shrink the cell",
             )
-        beads = ply_chains(layout, along_x, across).reshape(-1, 3)
         d, s = layout.diameter, layout.spacing
-        area = np.pi * d**2 / 4.0
-        atom_types.append(
-            AtomType(f"ply{index}_{ply.angle_deg:g}deg", "fibre", d, rho, modulus, ply.angle_deg)
-        )
-        bond_types.append(
-            BondType(atom_types[-1].name, "fibre", modulus * area / (2 * s), s, modulus * area)
-        )
+        area = fill * np.pi * d**2 / 4.0  # fibre cross-section of one chain
+        name = f"ply{index}_{ply.angle_deg:g}deg"
+        atom_types.append(AtomType(name, "fibre", d, rho, modulus, ply.angle_deg, fill))
+        if waviness is None:
+            beads = ply_chains(layout, along_x, across)
+            bond_types.append(BondType(name, "fibre", modulus * area / (2 * s), s, modulus * area))
+            r0 = length_per_bead = np.full(per_chain, s)
+            chain_type = np.full(per_chain, len(bond_types) - 1)
+            chain_density = np.full(per_chain, rho * area * s / (np.pi * d**3 / 6.0))
+            fibre_length = chain_length
+            rest_angle = np.full(per_chain, 180.0)
+        else:
+            beads, template = wavy_chains(layout, along_x, across, chain_length, waviness, index)
+            per_chain = len(template.positions)
+            r0, length_per_bead = template.bond_length, template.length_per_bead
+            keys = np.rint(r0 * 1e6).astype(np.int64)
+            _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+            chain_type = len(bond_types) + inverse.ravel()
+            for j, i in enumerate(first):
+                bond = float(r0[i])
+                k = modulus * area / (2 * bond)
+                bond_types.append(BondType(f"{name}_{j}", "fibre", k, bond, modulus * area))
+            chain_density = rho * area * length_per_bead / (np.pi * d**3 / 6.0)
+            fibre_length = float(r0.sum())
+            rest_angle = _rest_angles(template.positions, chain_length)
+        beads = beads.reshape(-1, 3)
         n = len(beads)
-        per_chain = layout.beads_per_chain
         local = np.arange(n).reshape(layout.n_chains, per_chain)
         chain_bonds = np.stack([local, np.roll(local, -1, axis=1)], axis=-1).reshape(-1, 2)
         positions.append(beads)
         diameter.append(np.full(n, d))
-        density.append(np.full(n, rho * area * s / (np.pi * d**3 / 6.0)))
+        density.append(np.tile(chain_density, layout.n_chains))
         type_id.append(np.full(n, index))
         mol_id.append(n_chains + np.repeat(np.arange(layout.n_chains), per_chain))
         bonds.append(chain_bonds + n_beads)
-        bond_type.append(np.full(len(chain_bonds), index))
-        fibre_volume += area * chain_length * layout.n_chains
+        bond_type.append(np.tile(chain_type, layout.n_chains))
+        if spec.discretisation.bending != "none":
+            bending = area * modulus * ply.filament_diameter_um**2 / 16.0  # N_f E pi d_f^4 / 64
+            kinds = _angle_kinds(
+                spec.discretisation.bending, bending, rest_angle, length_per_bead, name
+            )
+            types, per_bead = kinds
+            per_bead = per_bead + len(angle_types)
+            angle_types.extend(types)
+            triples = np.stack([np.roll(local, 1, axis=1), local, np.roll(local, -1, axis=1)])
+            angles.append(triples.reshape(3, -1).T + n_beads)
+            angle_type.append(np.tile(per_bead, layout.n_chains))
+        fibre_volume += area * fibre_length * layout.n_chains
         n_beads += n
         n_chains += layout.n_chains
     mat_thickness = z
@@ -253,9 +343,11 @@ def build_model(spec: FabricSpec) -> Model:
         stitch_type = len(atom_types)
         s_rho = units.to_micro(spec.stitch.density_g_cm3, "g_cm3")
         s_modulus = units.to_micro(spec.stitch.E_GPa, "GPa")
-        atom_types.append(AtomType("stitch", "stitch", s_d, s_rho, s_modulus))
-        area = np.pi * s_d**2 / 4.0
+        packing = spec.stitch.packing_fraction
+        atom_types.append(AtomType("stitch", "stitch", s_d, s_rho, s_modulus, None, packing))
+        area = packing * np.pi * s_d**2 / 4.0  # fibre cross-section of the yarn
         # One bond type per distinct rest length, so that every bond starts exactly at rest.
+        first_stitch_bond = len(bond_types)
         keys = np.rint(s_r0 * 1e6).astype(np.int64)
         _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
         for j, i in enumerate(first):
@@ -273,7 +365,7 @@ def build_model(spec: FabricSpec) -> Model:
         mol_id.append(n_chains + np.repeat(np.arange(n_yarns), per_yarn))
         offsets = (np.arange(n_yarns) * per_yarn)[:, None, None]
         bonds.append((s_bonds[None, :, :] + offsets).reshape(-1, 2) + n_beads)
-        bond_type.append(np.tile(len(spec.plies) + inverse.ravel(), n_yarns))
+        bond_type.append(np.tile(first_stitch_bond + inverse.ravel(), n_yarns))
     all_positions = np.concatenate(positions)
     all_positions[:, 0] %= length
     all_positions[:, 1] %= width
@@ -300,13 +392,58 @@ def build_model(spec: FabricSpec) -> Model:
         needle_points=needle_points,
         needle_diameter=needle_diameter,
         faces_z=faces,
+        angles=np.concatenate(angles) if angles else np.zeros((0, 3), dtype=np.int64),
+        angle_type=np.concatenate(angle_type) if angle_type else np.zeros(0, dtype=np.int64),
+        angle_types=tuple(angle_types),
+        angle_style=spec.discretisation.bending if angles else "none",
     )
+
+
+def _waviness(spec: FabricSpec) -> Waviness | None:
+    """The mat's waviness, None for the paper's straight chains."""
+    mat = spec.mat
+    if mat.waviness_amplitude_um == 0.0:
+        return None
+    return Waviness(
+        amplitude=mat.waviness_amplitude_um,
+        waves=mat.waviness_waves_per_cell,
+        out_of_plane=mat.waviness_plane == "out-of-plane",
+        phase_spread=mat.waviness_phase_spread_deg / 360.0,
+        seed=mat.seed,
+    )
+
+
+def _rest_angles(chain: np.ndarray, chain_length: float) -> np.ndarray:
+    """(n,) angle (deg) at each bead of one closed chain between its two bonds (180: straight)."""
+    shift = np.array([chain_length, 0.0, 0.0])
+    before = np.vstack([chain[-1:] - shift, chain[:-1]]) - chain
+    after = np.vstack([chain[1:], chain[:1] + shift]) - chain
+    cosine = np.einsum("ij,ij->i", before, after)
+    cosine /= np.linalg.norm(before, axis=1) * np.linalg.norm(after, axis=1)
+    return np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
+
+
+def _angle_kinds(style, bending, rest_angle, spacing, name):
+    """Angle types of one chain's beads: (types, (n,) type index of each bead).
+
+    One type per distinct (rest angle, chain length per bead); ``K = EI / (2 s)`` (harmonic) or
+    ``EI / s`` (cosine) with ``EI = bending`` (nN um^2) and ``s`` the bead's chain length.
+    """
+    keys = np.column_stack([np.rint(rest_angle * 1e6), np.rint(spacing * 1e6)]).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    types = []
+    for j, i in enumerate(first):
+        s = float(spacing[i])
+        k = bending / (2.0 * s) if style == "harmonic" else bending / s
+        label = f"{name}_bend" if len(first) == 1 else f"{name}_bend_{j}"
+        types.append(AngleType(label, "fibre", k, float(rest_angle[i]), bending, s))
+    return types, inverse.ravel()
 
 
 def _stitch_beads(spec, length, width, fibre_low, fibre_high, fibre_d_max):
     """Beads of the stitch yarns: (W, n, 3) positions, diameter, (n,) densities, bonds, ..."""
     stitch = spec.stitch
-    rho = units.to_micro(stitch.density_g_cm3, "g_cm3")
+    rho = units.to_micro(stitch.density_g_cm3, "g_cm3") * stitch.packing_fraction
     linear = units.to_micro(stitch.linear_density_dtex, "dtex")
     d = stitch.diameter_um or float(np.sqrt(4.0 * linear / (np.pi * rho)))
     min_needle = d + fibre_d_max

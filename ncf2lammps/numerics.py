@@ -17,6 +17,12 @@ loading rates keep using the physical density, so the run is that much more dyna
 ``numerics.fibre_stiffness_scaling`` multiplies the fibre bonds' axial stiffness (their limit
 grows by its inverse square root; fibres stretch that much more). :func:`simulated_model` applies
 both; every limit here is computed on it.
+
+Bending angles (``discretisation.bending``, docs/fidelity.md) of stiffness EI at bead spacing s
+add the transverse stencil ``EI / s^3 [1, -4, 6, -4, 1]``: its zigzag mode has
+``omega^2 = 16 EI / (m s^3)``, so an angle type limits dt to ``sqrt(m / (4 EI / s^3))`` on its
+own and adds ``8 EI / s^3`` to the bead bound's ``2 k_bond + Z (k_n + k_t)``. Bending is not
+scaled by ``fibre_stiffness_scaling``.
 """
 
 from __future__ import annotations
@@ -162,6 +168,19 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
             continue
         m_min = float(mass[model.bonds[in_type].ravel()].min())
         limits[f"bond {bond_type.name}"] = float(np.sqrt(m_min / (2.0 * bond_type.k)))
+    bending = np.zeros(len(simulated.atom_types))
+    for index, angle_type in enumerate(simulated.angle_types):
+        in_type = simulated.angle_type == index
+        if not np.any(in_type):
+            continue
+        vertex = simulated.angles[in_type, 1]
+        k_zigzag = 4.0 * angle_type.bending_stiffness / angle_type.spacing**3
+        for t in np.unique(simulated.type_id[vertex]):
+            m_min = float(mass[vertex[simulated.type_id[vertex] == t]].min())
+            key = f"bending {simulated.atom_types[t].name}"
+            limit = float(np.sqrt(m_min / k_zigzag))
+            limits[key] = min(limits.get(key, limit), limit)
+            bending[t] = max(bending[t], 2.0 * k_zigzag)
     law = contact_law(spec, model)
     limits["contact"] = float(np.sqrt(float(mass.min()) / law.stiffness))
     contacts = COORDINATION * (law.stiffness + law.tangential)
@@ -173,8 +192,9 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
         ends = beads[simulated.bonds].any(axis=1)
         k_bond = float(bond_k[np.unique(simulated.bond_type[ends])].max()) if ends.any() else 0.0
         m_min = float(mass[beads].min())
-        limits[f"bead {atom_type.name} (2 bonds + {COORDINATION} contacts)"] = float(
-            np.sqrt(2.0 * m_min / (2.0 * k_bond + contacts))
+        bend = " + bending" if bending[index] else ""
+        limits[f"bead {atom_type.name} (2 bonds + {COORDINATION} contacts{bend})"] = float(
+            np.sqrt(2.0 * m_min / (2.0 * k_bond + contacts + bending[index]))
         )
     governing = min(limits, key=limits.get)
     critical = limits[governing]

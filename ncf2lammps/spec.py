@@ -108,6 +108,9 @@ class PlySpec:
     )
     density_g_cm3: float = _f(1.80, 0.0, 25.0, lo_open=True, unit="g/cm3", source="carbon, paper")
     E_GPa: float = _f(240.0, 0.0, 1e4, lo_open=True, unit="GPa", source="carbon HT, typical")
+    filament_diameter_um: float = _f(
+        7.0, 1.0, 50.0, unit="um", source="carbon HT filament (T700S, HTS40: 7 um); bending only"
+    )
 
 
 @dataclass(frozen=True)
@@ -122,7 +125,10 @@ class StitchSpec:
     density_g_cm3: float = _f(1.38, 0.5, 5.0, unit="g/cm3", source="PES")
     E_GPa: float = _f(12.0, 0.01, 1e4, unit="GPa", source="PES yarn 10-15 GPa, typical")
     diameter_um: float | None = _f(
-        None, 1.0, 2000.0, unit="um", source="None: solid-equivalent from dtex and density"
+        None, 1.0, 2000.0, unit="um", source="None: from dtex, density and packing_fraction"
+    )
+    packing_fraction: float = _f(
+        1.0, 0.3, 1.0, unit="-", source="1: solid yarn (paper); multifilament PES ~0.5-0.8"
     )
     needle_diameter_mm: float = _f(
         1.0, 0.01, 10.0, unit="mm", source="E5 stitch-bonding compound needle, estimate"
@@ -160,6 +166,16 @@ class DiscretisationSpec:
 
     chain_diameter_um: float = _f(69.0, 1.0, 5000.0, unit="um", source="paper reference model")
     bead_spacing_ratio: float = _f(0.5, 0.2, 1.0, unit="s/d", source="DESIGN 5: roughness 0.134 R")
+    chain_internal_fvf: float = _f(
+        1.0,
+        0.5,
+        1.0,
+        unit="-",
+        source="1: solid chains (paper); bundles <= 0.907 (docs/fidelity.md)",
+    )
+    bending: str = _f(
+        "none", choices=("none", "harmonic", "cosine"), source="none: free pins (paper)"
+    )
 
 
 @dataclass(frozen=True)
@@ -167,6 +183,19 @@ class MatSpec:
     """The homogeneous fibrous mat before stitching."""
 
     initial_fvf: float = _f(0.30, 0.01, 0.785, unit="-", source="paper, eq. (1)")
+    waviness_amplitude_um: float = _f(
+        0.0, 0.0, 5000.0, unit="um", source="0: straight chains (paper); docs/fidelity.md"
+    )
+    waviness_waves_per_cell: int = _f(
+        1, 1, 1000, unit="-", source="whole waves along each chain's cell edge (periodic)"
+    )
+    waviness_plane: str = _f(
+        "in-plane", choices=("in-plane", "out-of-plane"), source="direction of the waviness"
+    )
+    waviness_phase_spread_deg: float = _f(
+        360.0, 0.0, 360.0, unit="deg", source="chain phases uniform in [0, spread): 0 in phase"
+    )
+    seed: int = _f(1, 0, 2**31 - 1, unit="-", source="random phases of the waviness")
 
 
 @dataclass(frozen=True)
@@ -174,6 +203,9 @@ class ContactSpec:
     """Chain-chain contact: Coulomb friction and the normal law (``pair_style granular``)."""
 
     friction: float = _f(0.30, 0.0, 2.0, unit="-", source="paper")
+    fibre_stitch_friction: float | None = _f(
+        None, 0.0, 2.0, unit="-", source="None: friction; carbon-PES data in docs/fidelity.md"
+    )
     normal_model: str = _f("hooke", choices=("hooke", "hertz"), source="model choice")
     normal_stiffness_N_m: float = _f(
         1.0e6, 1.0, 1.0e9, unit="N/m", source="docs/contact.md: below the stitch bond's EA/s"
@@ -433,6 +465,12 @@ def _check_consistency(spec: FabricSpec) -> None:
                 "stitch.lapping", stitch.lapping, "is only read with stitch.pattern = 'custom'"
             )
         stitch.overlaps  # noqa: B018 - parses and validates the notation
+        if stitch.diameter_um is not None and stitch.packing_fraction != 1.0:
+            raise SpecError(
+                "stitch.packing_fraction",
+                stitch.packing_fraction,
+                "is only read with stitch.diameter_um unset (the diameter follows from it)",
+            )
         repeat = (stitch.courses_per_repeat * stitch.stitch_length_mm, stitch.gauge_mm)
         for key, size, unit_len in zip(
             ("cell.length_mm", "cell.width_mm"),
@@ -448,6 +486,18 @@ def _check_consistency(spec: FabricSpec) -> None:
                 raise SpecError(key, size, f"must be at least the repeat {unit_len:g} mm")
     elif spec.cell.length_mm is None or spec.cell.width_mm is None:
         raise SpecError("cell", "missing", "length_mm and width_mm are required without [stitch]")
+    if stitch is None and spec.contact.fibre_stitch_friction is not None:
+        raise SpecError(
+            "contact.fibre_stitch_friction",
+            spec.contact.fibre_stitch_friction,
+            "is only read with a [stitch] table",
+        )
+    if spec.discretisation.bending == "cosine" and spec.mat.waviness_amplitude_um > 0.0:
+        raise SpecError(
+            "discretisation.bending",
+            "cosine",
+            "rests at 180 deg only: use 'harmonic' with mat.waviness_amplitude_um > 0",
+        )
     length, width = spec.cell_mm
     d_mm = spec.discretisation.chain_diameter_um * 1e-3
     if min(length, width) < 2.0 * d_mm:

@@ -15,8 +15,66 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..spec import SpecError
+from .chains import BeadChain, sample_closed_polyline
 
-__all__ = ["PlyLayout", "ply_chains", "ply_layout"]
+__all__ = ["VERTICES_PER_WAVE", "PlyLayout", "Waviness", "ply_chains", "ply_layout", "wavy_chains"]
+
+#: Polyline corners per wavelength of a wavy chain: a sine sampled at 16 points, every corner a
+#: bead; its segments come in four lengths, so a ply gets a handful of bond and angle types.
+VERTICES_PER_WAVE = 16
+
+
+@dataclass(frozen=True)
+class Waviness:
+    """Sinusoidal waviness of a ply's chains (docs/fidelity.md), all lengths in um.
+
+    Chain ``c`` follows ``u(a) = amplitude sin(2 pi waves (a - a_c) / L)`` across its axis (in the
+    plane, or in z if ``out_of_plane``), ``a`` the coordinate along the chain and ``L`` the cell
+    edge along it, so the chain closes on itself. Phases ``a_c`` are uniform in
+    ``[0, phase_spread L / waves)`` from ``seed`` (``phase_spread`` a fraction of a wave; 0: every
+    chain in phase). The curve is a polyline through :data:`VERTICES_PER_WAVE` points per wave.
+    """
+
+    amplitude: float
+    waves: int
+    out_of_plane: bool
+    phase_spread: float
+    seed: int
+
+    def vertices(self, chain_length: float) -> np.ndarray:
+        """(V, 3) polyline corners (along, displacement, 0) of one chain of phase 0."""
+        j = np.arange(self.waves * VERTICES_PER_WAVE)
+        along = j * chain_length / len(j)
+        shape = self.amplitude * np.sin(2.0 * np.pi * j / VERTICES_PER_WAVE)
+        return np.column_stack([along, shape, np.zeros(len(j))])
+
+    def length_factor(self, chain_length: float) -> float:
+        """Polyline length over the cell edge (>= 1): how much longer a wavy fibre is."""
+        vertices = self.vertices(chain_length)
+        ends = np.vstack([vertices[1:], vertices[:1] + np.array([chain_length, 0.0, 0.0])])
+        return float(np.linalg.norm(ends - vertices, axis=1).sum() / chain_length)
+
+    def slope(self, chain_length: float) -> float:
+        """Largest slope (tan of the misalignment angle) of the polyline's segments."""
+        vertices = self.vertices(chain_length)
+        rise = np.diff(np.append(vertices[:, 1], vertices[0, 1]))
+        return float(np.abs(rise).max() / (chain_length / len(vertices)))
+
+    def relative_displacement(self, across_plies: bool) -> float:
+        """Bound on the difference of two chains' displacements at the same place (um): chains
+        of one ply differ by their phases (in phase: 0), chains of two plies by anything."""
+        chord_error = self.amplitude * (1.0 - np.cos(np.pi / VERTICES_PER_WAVE))
+        if across_plies:
+            return 2.0 * (self.amplitude + chord_error)
+        if self.phase_spread == 0.0:
+            return 0.0
+        half = min(np.pi, 2.0 * np.pi * self.phase_spread) / 2.0
+        return 2.0 * (self.amplitude * np.sin(half) + chord_error)
+
+    def phases(self, n_chains: int, chain_length: float, stream: int) -> np.ndarray:
+        """(n_chains,) phase shifts ``a_c`` (um), reproducible from ``seed`` and ``stream``."""
+        rng = np.random.default_rng([self.seed, stream])
+        return rng.uniform(0.0, 1.0, n_chains) * self.phase_spread * chain_length / self.waves
 
 
 @dataclass(frozen=True)
@@ -50,15 +108,33 @@ def ply_layout(
     diameter: float,
     spacing_ratio: float,
     field_prefix: str = "ply",
+    fill: float = 1.0,
+    waviness: Waviness | None = None,
 ) -> PlyLayout:
     """Arrange one ply's chains (lengths um, areal weight pg/um^2, density pg/um^3).
 
-    ``chain_length`` is the cell edge along the fibres, ``width`` the edge across them.
+    ``chain_length`` is the cell edge along the fibres, ``width`` the edge across them. ``fill``
+    is the chain's internal fibre volume fraction: a chain of diameter ``d`` carries the fibre
+    cross-section ``fill pi d^2 / 4``. With ``waviness`` the chains are longer than the cell by
+    its length factor (their diameter shrinks to keep the fibre volume) and their neighbours are
+    spaced so that the wavy chains cannot touch (otherwise a SpecError).
     """
     fibre_area = areal_weight / density * width  # fibre cross-section of the cell, um^2
-    n_chains = max(1, round(fibre_area / (np.pi * diameter**2 / 4.0)))
-    d = float(np.sqrt(4.0 * fibre_area / (np.pi * n_chains)))
+    if waviness is not None:
+        fibre_area = fibre_area / waviness.length_factor(chain_length)
+    n_chains = max(1, round(fibre_area / (fill * np.pi * diameter**2 / 4.0)))
+    d = float(np.sqrt(4.0 * fibre_area / (np.pi * n_chains * fill)))
     thickness = areal_weight / (fvf * density)
+    row_pitch = across_pitch = d
+    if waviness is not None:
+        row_pitch, across_pitch = _wavy_pitches(waviness, d, chain_length, spacing_ratio)
+        if thickness < row_pitch:
+            raise SpecError(
+                "mat.waviness_amplitude_um",
+                waviness.amplitude,
+                f"out-of-plane waviness needs rows {row_pitch:.4g} um apart, more than the"
+                f" {thickness:.4g} um thick {field_prefix} (lower the amplitude or mat.initial_fvf)",
+            )
     if thickness < d * (1.0 - 1e-12):
         raise SpecError(
             "discretisation.chain_diameter_um",
@@ -66,9 +142,17 @@ def ply_layout(
             f"chains of {d:.4g} um do not fit the {thickness:.4g} um thick {field_prefix} of the"
             " homogeneous mat (use chains at most as thick as the ply, or a lower mat.initial_fvf)",
         )
-    n_rows = int(min(n_chains, max(1, np.floor(thickness / d * (1.0 + 1e-12)))))
+    n_rows = int(min(n_chains, max(1, np.floor(thickness / row_pitch * (1.0 + 1e-12)))))
     rows = np.full(n_rows, n_chains // n_rows, dtype=np.int64)
     rows[: n_chains % n_rows] += 1
+    if waviness is not None and width / rows.max() < across_pitch:
+        raise SpecError(
+            "mat.waviness_amplitude_um",
+            waviness.amplitude,
+            f"in-plane waviness needs chains {across_pitch:.4g} um apart in a row, but"
+            f" {field_prefix} packs {rows.max()} across {width:.4g} um (lower the amplitude,"
+            " mat.waviness_phase_spread_deg or mat.initial_fvf)",
+        )
     if width / rows.max() < d * (1.0 - 1e-12):
         raise SpecError(
             "mat.initial_fvf",
@@ -103,3 +187,55 @@ def ply_chains(layout: PlyLayout, along_x: bool, width: float) -> np.ndarray:
     positions[..., axis_across] = across[:, None]
     positions[..., 2] = layout.row_z[row_of_chain][:, None]
     return positions
+
+
+def _wavy_pitches(waviness: Waviness, d: float, chain_length: float, spacing_ratio: float):
+    """(row pitch, pitch in a row) that keep wavy chains of diameter ``d`` apart (um).
+
+    Two curves whose gap at equal position is at least ``G`` and whose slopes are at most
+    ``tan a`` stay ``G / sqrt(1 + tan^2 a)`` apart (parallel chains) or ``G / sqrt(1 + 2 tan^2
+    a)`` (crossing chains, each sloping); ``G`` is the pitch less the relative displacement.
+    In-plane waviness needs room within a row, out-of-plane waviness between rows and plies.
+    """
+    segment = chain_length / (waviness.waves * VERTICES_PER_WAVE)
+    if segment < spacing_ratio * d:
+        most = int(chain_length / (VERTICES_PER_WAVE * spacing_ratio * d))
+        raise SpecError(
+            "mat.waviness_waves_per_cell",
+            waviness.waves,
+            f"waves too short for beads {spacing_ratio * d:.4g} um apart: at most {most} per"
+            f" cell edge of {chain_length:.4g} um ({VERTICES_PER_WAVE} corners per wave)",
+        )
+    tan = waviness.slope(chain_length)
+    if waviness.out_of_plane:
+        row = d * np.sqrt(1.0 + 2.0 * tan**2) + waviness.relative_displacement(True)
+        return float(row), d
+    across = d * np.sqrt(1.0 + tan**2) + waviness.relative_displacement(False)
+    return d, float(across)
+
+
+def wavy_chains(
+    layout: PlyLayout,
+    along_x: bool,
+    width: float,
+    chain_length: float,
+    waviness: Waviness,
+    stream: int,
+) -> tuple[np.ndarray, BeadChain]:
+    """Bead centres of a wavy ply, (n_chains, beads per chain, 3), and the chain they all
+    translate (its bonds, rest lengths and lengths per bead hold for every chain).
+
+    Rows and positions across are those of :func:`ply_chains`; each chain is the sampled
+    polyline of :meth:`Waviness.vertices` shifted along by its phase.
+    """
+    template = sample_closed_polyline(
+        waviness.vertices(chain_length), np.array([chain_length, 0.0, 0.0]), layout.spacing
+    )
+    straight = ply_chains(PlyLayout(**{**layout.__dict__, "beads_per_chain": 1}), along_x, width)
+    axis_along, axis_across = (0, 1) if along_x else (1, 0)
+    phases = waviness.phases(layout.n_chains, chain_length, stream)
+    positions = np.repeat(straight, len(template.positions), axis=1)
+    positions[..., axis_along] = template.positions[None, :, 0] + phases[:, None]
+    shift_axis = 2 if waviness.out_of_plane else axis_across
+    positions[..., shift_axis] += template.positions[None, :, 1]
+    return positions, template

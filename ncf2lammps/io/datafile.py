@@ -2,7 +2,10 @@
 
 Atom lines are ``id type x y z diameter density mol`` (ids, types and molecules 1-based here and
 only here); bonds ``id type atom1 atom2``. Bond coefficients (``bond_style harmonic``: K, r0) and
-type labels travel in the file, so a deck needs nothing else to know the model. Whole arrays are
+type labels travel in the file, so a deck needs nothing else to know the model. A model with
+bending angles (docs/fidelity.md) adds ``Angles`` (``id type atom1 atom2 atom3``), their labels
+and coefficients (``harmonic``: K, theta0; ``cosine``: K) and is read with ``atom_style hybrid
+sphere angle`` (same atom columns); without angles the file has no angle line at all. Whole arrays are
 formatted at once (no per-row Python loop); floats are written with 17 significant digits, so a
 write-read round trip returns identical arrays.
 """
@@ -11,7 +14,7 @@ from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -40,6 +43,25 @@ def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps m
     path = Path(path)
     box = model.box
     n_atoms, n_bonds = model.n_atoms, model.n_bonds
+    angle_counts, angle_labels, angle_tables = [], [], []
+    if model.n_angles:  # LAMMPS wants every type label before the first coefficient
+        harmonic = model.angle_style == "harmonic"
+        angle_counts = [f"{model.n_angles} angles", f"{len(model.angle_types)} angle types"]
+        angle_labels = [
+            "Angle Type Labels",
+            "",
+            *(f"{i + 1} {t.name}" for i, t in enumerate(model.angle_types)),
+            "",
+        ]
+        angle_tables = [
+            f"Angle Coeffs # {model.angle_style}",
+            "",
+            *(
+                f"{i + 1} {t.k:.17g} {t.theta0:.17g}" if harmonic else f"{i + 1} {t.k:.17g}"
+                for i, t in enumerate(model.angle_types)
+            ),
+            "",
+        ]
     header = [
         f"LAMMPS data file: {title}",
         "",
@@ -47,6 +69,7 @@ def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps m
         f"{n_bonds} bonds",
         f"{len(model.atom_types)} atom types",
         f"{len(model.bond_types)} bond types",
+        *angle_counts,
         "",
         f"{box.lo[0]:.17g} {box.hi[0]:.17g} xlo xhi",
         f"{box.lo[1]:.17g} {box.hi[1]:.17g} ylo yhi",
@@ -61,10 +84,12 @@ def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps m
         "",
         *(f"{i + 1} {t.name}" for i, t in enumerate(model.bond_types)),
         "",
+        *angle_labels,
         "Bond Coeffs # harmonic",
         "",
         *(f"{i + 1} {t.k:.17g} {t.r0:.17g}" for i, t in enumerate(model.bond_types)),
         "",
+        *angle_tables,
         "Atoms # hybrid",
         "",
     ]
@@ -95,6 +120,18 @@ def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps m
         if n_bonds:
             fh.write("\nBonds\n\n")
             fh.write(bonds)
+        if model.n_angles:
+            fh.write("\nAngles\n\n")
+            fh.write(
+                _format_rows(
+                    [
+                        np.arange(1, model.n_angles + 1),
+                        model.angle_type + 1,
+                        *(model.angles.T + 1),
+                    ],
+                    ["%d"] * 5,
+                )
+            )
     return path
 
 
@@ -102,7 +139,9 @@ def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps m
 class LammpsData:
     """Arrays of a data file, 0-based, ordered by atom id (see :class:`Model` for meanings).
 
-    ``bond_coeffs`` is (B, 2) float (K, r0); ``atom_labels``/``bond_labels`` the type names.
+    ``bond_coeffs`` is (B, 2) float (K, r0); ``atom_labels``/``bond_labels`` the type names;
+    ``angles`` (A, 3), ``angle_type`` (A,), ``angle_coeffs`` (T, 1 or 2) and ``angle_labels``
+    are empty without angles.
     """
 
     positions: np.ndarray
@@ -116,14 +155,21 @@ class LammpsData:
     bond_coeffs: np.ndarray
     atom_labels: tuple[str, ...]
     bond_labels: tuple[str, ...]
+    angles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.int64))
+    angle_type: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    angle_coeffs: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))
+    angle_labels: tuple[str, ...] = ()
 
 
 _SECTIONS = (
     "Atom Type Labels",
     "Bond Type Labels",
+    "Angle Type Labels",
     "Bond Coeffs",
+    "Angle Coeffs",
     "Atoms",
     "Bonds",
+    "Angles",
     "Velocities",
     "Masses",
 )
@@ -146,7 +192,7 @@ def read_data(path: str | os.PathLike) -> LammpsData:
             continue
         if starts:
             continue
-        if len(words) == 2 and words[1] in ("atoms", "bonds"):
+        if len(words) == 2 and words[1] in ("atoms", "bonds", "angles"):
             counts[words[1]] = int(words[0])
         elif len(words) == 4 and words[2:] in (["xlo", "xhi"], ["ylo", "yhi"], ["zlo", "zhi"]):
             bounds[words[2][0]] = (float(words[0]), float(words[1]))
@@ -180,6 +226,11 @@ def read_data(path: str | os.PathLike) -> LammpsData:
     bonds = bonds[np.argsort(bonds[:, 0])]
     coeffs = table("Bond Coeffs")
     coeffs = coeffs[np.argsort(coeffs[:, 0])][:, 1:]
+    angles = table("Angles")
+    angles = angles[np.argsort(angles[:, 0])] if angles.size else np.zeros((0, 5))
+    angle_coeffs = table("Angle Coeffs")
+    if angle_coeffs.size:
+        angle_coeffs = angle_coeffs[np.argsort(angle_coeffs[:, 0])][:, 1:]
     box = Box(
         lo=np.array([bounds[a][0] for a in "xyz"]),
         hi=np.array([bounds[a][1] for a in "xyz"]),
@@ -197,4 +248,8 @@ def read_data(path: str | os.PathLike) -> LammpsData:
         bond_coeffs=coeffs,
         atom_labels=labels("Atom Type Labels"),
         bond_labels=labels("Bond Type Labels"),
+        angles=angles[:, 2:5].astype(np.int64) - 1,
+        angle_type=angles[:, 1].astype(np.int64) - 1,
+        angle_coeffs=angle_coeffs if angle_coeffs.size else np.zeros((0, 1)),
+        angle_labels=labels("Angle Type Labels"),
     )

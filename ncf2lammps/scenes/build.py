@@ -32,6 +32,7 @@ __all__ = [
     "check_ranks",
     "checkpoint_interval",
     "deck_context",
+    "friction_pairs",
     "prepare_output",
 ]
 
@@ -105,6 +106,8 @@ def deck_context(
         "data_file": data_file,
         "restart_file": None,
         "contact": contact_law(spec, model),
+        "friction_pairs": friction_pairs(spec, model),
+        "angle_style": None if model.angle_style == "none" else model.angle_style,
         "dt": step.dt,
         "skin": skin,
         "comm_cutoff": float(model.diameter.max()) + skin + 1.5 * longest_bond,
@@ -113,6 +116,17 @@ def deck_context(
         "dump_every": spec.output.dump_every_steps if scene != "verify" else 0,
         "restart_every": restart_every,
     }
+
+
+def friction_pairs(spec: FabricSpec, model: Model) -> list[tuple[int, int, float]]:
+    """(fibre type, stitch type, mu) 1-based, for a fibre-stitch friction of its own
+    (``contact.fibre_stitch_friction``); empty when every pair shares ``contact.friction``."""
+    mu = spec.contact.fibre_stitch_friction
+    stitch = [i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch"]
+    if mu is None or not stitch:
+        return []
+    fibre = [i + 1 for i, t in enumerate(model.atom_types) if t.role == "fibre"]
+    return [(i, stitch[0], float(mu)) for i in fibre]
 
 
 def prepare_output(directory: str | os.PathLike, force: bool = False) -> tuple[Path, Path]:

@@ -97,12 +97,13 @@ def _pretension_bonds(spec: FabricSpec, model: Model) -> list[tuple[int, float, 
     if n0 == 0.0:
         return []
     lx, ly = model.box.lengths[:2]
-    names = [t.name for t in model.atom_types]
     out = []
     for index, bond in enumerate(model.bond_types):
-        if bond.role != "fibre":
+        in_type = model.bond_type == index
+        if bond.role != "fibre" or not np.any(in_type):
             continue
-        kind = model.atom_types[names.index(bond.name)]
+        # The ply of the bond's beads (a wavy ply has several bond types).
+        kind = model.atom_types[model.type_id[model.bonds[in_type][0, 0]]]
         chains, _ = model.count(kind.name)
         width = ly if kind.angle_deg == 0.0 else lx
         tension = n0 * width / chains
