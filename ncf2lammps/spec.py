@@ -243,6 +243,9 @@ class ManufactureSpec:
     )
     control_time_us: float = _f(20.0, 0.01, 1e6, unit="us", source="tension controller, model")
     damping_time_us: float = _f(50.0, 0.01, 1e6, unit="us", source="docs/manufacture.md")
+    relaxation_damping_time_us: float | None = _f(
+        None, 0.01, 1e6, unit="us", source="None: damping_time_us; docs/manufacture.md"
+    )
     stitch_damping_time_us: float | None = _f(
         None, 0.01, 1e6, unit="us", source="None: damping_time_us; docs/manufacture.md"
     )

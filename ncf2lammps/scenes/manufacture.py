@@ -148,6 +148,7 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
         "insertion_steps": damping_steps,
         "damping_time": settings.damping_time_us,
         "stitch_damping_time": settings.stitch_damping_time_us or settings.damping_time_us,
+        "relaxation_damping_time": settings.relaxation_damping_time_us or settings.damping_time_us,
         "seed": 4928,
         "tension": units.to_micro(settings.stitch_tension_N, "N"),
         "strain_rate": settings.pretension_strain_rate_per_us,
