@@ -34,7 +34,7 @@ from ..engine import Checkpoints, Engine, EngineError
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, read_final
 from ..model import Model
-from ..numerics import contact_law, time_step
+from ..numerics import contact_law, simulated_model, time_step
 from ..spec import FabricSpec
 
 __all__ = [
@@ -133,6 +133,8 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
     speed = units.to_micro(settings.needle_speed_m_s, "m_s")
     damping_steps = math.ceil(2 * settings.damping_time_us / dt)
     stitch_bonds = [(i + 1, t.r0) for i, t in enumerate(model.bond_types) if t.role == "stitch"]
+    mass = simulated_model(spec, model).mass
+    type_mass = [float(mass[model.type_id == t - 1].mean()) for t in (*fibre_types, stitch_type)]
     return {
         "fibre_types": fibre_types,
         "stitch_type": stitch_type,
@@ -146,10 +148,11 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
         "needle_cutoff": float(model.diameter[fibre].max()) / 2,
         "needle_steps": math.ceil((radius - start_radius) / speed / dt) + damping_steps,
         "insertion_steps": damping_steps,
+        "fibre_mass": list(zip(fibre_types, type_mass[:-1], strict=True)),
+        "stitch_mass": type_mass[-1],
         "damping_time": settings.damping_time_us,
         "stitch_damping_time": settings.stitch_damping_time_us or settings.damping_time_us,
         "relaxation_damping_time": settings.relaxation_damping_time_us or settings.damping_time_us,
-        "seed": 4928,
         "tension": units.to_micro(settings.stitch_tension_N, "N"),
         "strain_rate": settings.pretension_strain_rate_per_us,
         "ramp_steps": settings.max_ramp_steps,
