@@ -43,7 +43,8 @@ from .run import run, run_scenes, scenes_to_run
 
 __all__ = ["KNOBS", "OUTPUTS", "StudyPoint", "parse_vary", "study", "study_grid"]
 
-#: Knobs a study may vary, with the end that is most conservative (the reference).
+#: Knobs a study may vary, with the end that is the reference: the most conservative numerics,
+#: or, for the model options beyond the paper (docs/fidelity.md), the paper's own model.
 KNOBS = {
     "discretisation.chain_diameter_um": "min",
     "discretisation.bead_spacing_ratio": "min",
@@ -57,6 +58,10 @@ KNOBS = {
     "compaction.plate_speed_m_s": "min",
     "shear.inertial_number": "min",
     "shear.shear_rate_deg_us": "min",
+    "discretisation.chain_internal_fvf": "max",
+    "mat.initial_fvf": "max",
+    "mat.waviness_amplitude_um": "min",
+    "stitch.packing_fraction": "max",
 }
 
 #: Outputs compared across points: (scene, results.h5 attribute, label).

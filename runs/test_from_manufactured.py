@@ -1,0 +1,33 @@
+"""Example generate-and-run script: one test scene on a copy of a manufactured folder, at a
+loading rate of your choice, so that compaction and shear of one expensive manufactured cell can
+run side by side (each on its own ranks).
+
+    python runs/test_from_manufactured.py runs/hpt310/spec.toml out/hpt310 out/hpt310-shear \\
+        shear --inertial-number 0.05 --np 1
+"""
+
+import argparse
+import shutil
+from pathlib import Path
+
+import ncf2lammps as n2l
+from ncf2lammps.io.results import read_results
+
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("spec", type=Path)
+parser.add_argument("manufactured", type=Path, help="folder of `run --scene manufacture`")
+parser.add_argument("output", type=Path, help="new folder (a copy of the manufactured one)")
+parser.add_argument("scene", choices=("compaction", "shear"))
+parser.add_argument("--inertial-number", type=float, default=None, help="default: the spec's")
+parser.add_argument("--np", type=int, default=1, help="MPI ranks")
+args = parser.parse_args()
+
+spec = n2l.load_spec(args.spec)
+if args.inertial_number is not None:
+    spec = spec.replace(**{args.scene: {"inertial_number": args.inertial_number}})
+if args.output.exists():
+    parser.error(f"output = {args.output}: exists; choose a new folder")
+shutil.copytree(args.manufactured, args.output)
+results = read_results(n2l.run_scenes(spec, args.output, [args.scene], ranks=args.np))
+attrs = results[args.scene]["attrs"]
+print({key: attrs[key] for key in sorted(attrs) if not key.startswith("reference")})
