@@ -7,6 +7,7 @@ Exit codes: 0 success; 2 bad input (one line naming the field and the allowed ra
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from . import __version__, units
@@ -218,6 +219,11 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except EngineError as err:
         print(f"ncf2lammps: run failed: {err}", file=sys.stderr)
+        return 1
+    except BrokenPipeError:
+        # The reader of our output stopped (`ncf2lammps check SPEC | head`): no traceback, and
+        # no second error when Python flushes stdout at exit.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 
@@ -28,6 +29,22 @@ def test_check_prints_sizes_and_time_step():
         "margin",
     ):
         assert words in out.stdout
+
+
+def test_check_piped_into_a_reader_that_stops_leaves_no_traceback():
+    """`ncf2lammps check SPEC | head -1`: a closed pipe is not worth a traceback (exit 1)."""
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # the reader has gone: every write gets EPIPE
+    try:
+        out = subprocess.run(
+            [sys.executable, "-m", "ncf2lammps.cli", "check", COARSE],
+            stdout=write_end,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+    finally:
+        os.close(write_end)
+    assert out.returncode == 1 and out.stderr == "", out.stderr
 
 
 @pytest.mark.parametrize(
