@@ -491,8 +491,8 @@ class Engine:
         expanded them the first time (every ``$(...)`` keeps its original value; lines marked
         ``# resume: live`` are evaluated afresh), with ``read_restart`` of the checkpoint for
         the first read and without the runs and the commands that changed or wrote the state
-        (:data:`_NOT_REPLAYED`); internal variables are defined with their checkpointed values; that run
-        goes on from the checkpoint to its planned end; the deck continues after it.
+        (:data:`_NOT_REPLAYED`); internal variables are defined with their checkpointed values;
+        that run goes on from the checkpoint to its planned end; the deck continues after it.
         """
         state = journal.load()
         step = int(state["step"])

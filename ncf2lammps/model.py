@@ -284,9 +284,8 @@ def build_model(spec: FabricSpec) -> Model:
             beads, template = wavy_chains(layout, along_x, across, chain_length, waviness, index)
             per_chain = len(template.positions)
             r0, length_per_bead = template.bond_length, template.length_per_bead
-            keys = np.rint(r0 * 1e6).astype(np.int64)
-            _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
-            chain_type = len(bond_types) + inverse.ravel()
+            first, inverse = _distinct(r0)
+            chain_type = len(bond_types) + inverse
             for j, i in enumerate(first):
                 bond = float(r0[i])
                 k = modulus * area / (2 * bond)
@@ -348,8 +347,7 @@ def build_model(spec: FabricSpec) -> Model:
         area = packing * np.pi * s_d**2 / 4.0  # fibre cross-section of the yarn
         # One bond type per distinct rest length, so that every bond starts exactly at rest.
         first_stitch_bond = len(bond_types)
-        keys = np.rint(s_r0 * 1e6).astype(np.int64)
-        _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+        first, inverse = _distinct(s_r0)
         for j, i in enumerate(first):
             r0 = float(s_r0[i])
             name = f"stitch_{SEGMENT_KINDS[s_kind[i]]}_{j}"
@@ -365,7 +363,7 @@ def build_model(spec: FabricSpec) -> Model:
         mol_id.append(n_chains + np.repeat(np.arange(n_yarns), per_yarn))
         offsets = (np.arange(n_yarns) * per_yarn)[:, None, None]
         bonds.append((s_bonds[None, :, :] + offsets).reshape(-1, 2) + n_beads)
-        bond_type.append(np.tile(first_stitch_bond + inverse.ravel(), n_yarns))
+        bond_type.append(np.tile(first_stitch_bond + inverse, n_yarns))
     all_positions = np.concatenate(positions)
     all_positions[:, 0] %= length
     all_positions[:, 1] %= width
@@ -413,6 +411,14 @@ def _waviness(spec: FabricSpec) -> Waviness | None:
     )
 
 
+def _distinct(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Classes of values equal to 1e-6 (rows of a 2-D array): (index of each class's first
+    member, (n,) class of each value), classes in ascending order."""
+    keys = np.rint(np.asarray(values) * 1e6).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    return first, inverse.ravel()
+
+
 def _rest_angles(chain: np.ndarray, chain_length: float) -> np.ndarray:
     """(n,) angle (deg) at each bead of one closed chain between its two bonds (180: straight)."""
     shift = np.array([chain_length, 0.0, 0.0])
@@ -429,15 +435,14 @@ def _angle_kinds(style, bending, rest_angle, spacing, name):
     One type per distinct (rest angle, chain length per bead); ``K = EI / (2 s)`` (harmonic) or
     ``EI / s`` (cosine) with ``EI = bending`` (nN um^2) and ``s`` the bead's chain length.
     """
-    keys = np.column_stack([np.rint(rest_angle * 1e6), np.rint(spacing * 1e6)]).astype(np.int64)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    first, inverse = _distinct(np.column_stack([rest_angle, spacing]))
     types = []
     for j, i in enumerate(first):
         s = float(spacing[i])
         k = bending / (2.0 * s) if style == "harmonic" else bending / s
         label = f"{name}_bend" if len(first) == 1 else f"{name}_bend_{j}"
         types.append(AngleType(label, "fibre", k, float(rest_angle[i]), bending, s))
-    return types, inverse.ravel()
+    return types, inverse
 
 
 def _stitch_beads(spec, length, width, fibre_low, fibre_high, fibre_d_max):
