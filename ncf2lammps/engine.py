@@ -20,6 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .numerics import GUARD_MAX_BOND_STRETCH, GUARD_MAX_KINETIC_JUMP
+
 __all__ = [
     "Checkpoints",
     "Engine",
@@ -36,12 +38,18 @@ _ADVICE = {
         "lower numerics.dt_fraction, the loading rate, or raise numerics.mass_scaling",
     ),
     "bond": (
-        "a bond stretched past 1.5 x the longest rest length",
+        f"a bond stretched past {1 + GUARD_MAX_BOND_STRETCH:g} x the longest rest length",
         "lower the loading rate or numerics.dt_fraction; check the stitch tension",
     ),
     "overlap": (
         "two beads overlap by more than the allowed fraction of a diameter",
         "raise contact.normal_stiffness_N_m or lower the loads/rates; check the time step margin",
+    ),
+    "kinetic": (
+        f"the kinetic energy grew more than {GUARD_MAX_KINETIC_JUMP:g} x between two checks (an"
+        " instability, or a sudden jump of the box or a wall)",
+        "lower numerics.dt_fraction or the loading rate; if the box or a wall jumped, the deck"
+        " is at fault (report it)",
     ),
 }
 _STAGE = re.compile(r"^#\s*stage:\s*(\w+)")

@@ -37,7 +37,9 @@ from .spec import FabricSpec, SpecError
 
 __all__ = [
     "COORDINATION",
+    "GUARD_KINETIC_FLOOR_STEP_MOVE",
     "GUARD_MAX_BOND_STRETCH",
+    "GUARD_MAX_KINETIC_JUMP",
     "GUARD_MAX_OVERLAP",
     "GUARD_MAX_STEP_MOVE",
     "STABLE_FRACTION",
@@ -62,6 +64,13 @@ __all__ = [
 GUARD_MAX_STEP_MOVE = 0.1
 GUARD_MAX_BOND_STRETCH = 0.5
 GUARD_MAX_OVERLAP = 1.0
+#: Kinetic-energy jump guard: the kinetic energy may grow at most this factor between two
+#: checks, above a floor: the kinetic energy 0.5 M (f d / dt)^2 of an rms bead move of f =
+#: GUARD_KINETIC_FLOOR_STEP_MOVE smallest diameters per step. Quasi-static stages stay near
+#: f = 1e-5; the needle stage is the fastest normal motion (f = 1.04e-3 at step 100 of the coarse
+#: manufacture: 12 x the floor's energy); the shear box jumps of docs/numerics.md 2.6e-3 (78 x).
+GUARD_MAX_KINETIC_JUMP = 50.0
+GUARD_KINETIC_FLOOR_STEP_MOVE = 3.0e-4
 
 #: Largest dt / sqrt(m/k) measured stable for crossing plies (DESIGN 8).
 STABLE_FRACTION = 0.8
@@ -218,7 +227,10 @@ class Guards:
 
     Attributes: ``every`` (steps between checks); ``diameter`` = smallest bead diameter (um);
     ``contact_stiffness`` (nN/um) to turn the largest pair force into an overlap;
-    ``max_step_move`` and ``max_overlap`` (fractions of ``diameter``); ``max_bond_length`` (um).
+    ``max_step_move`` and ``max_overlap`` (fractions of ``diameter``); ``max_bond_length`` (um);
+    ``max_kinetic_jump`` (growth factor of the kinetic energy between two checks) above
+    ``kinetic_floor`` (pg um^2 / us^2, the kinetic energy of an rms move of
+    :data:`GUARD_KINETIC_FLOOR_STEP_MOVE` diameters per step).
     """
 
     every: int
@@ -227,17 +239,23 @@ class Guards:
     max_step_move: float
     max_overlap: float
     max_bond_length: float
+    max_kinetic_jump: float
+    kinetic_floor: float
 
 
 def guards(spec: FabricSpec, model: Model) -> Guards:
     """The guards of a model: thresholds from :data:`GUARD_MAX_STEP_MOVE` and friends."""
+    diameter = float(model.diameter.min())
+    floor_speed = GUARD_KINETIC_FLOOR_STEP_MOVE * diameter / time_step(spec, model).dt
     return Guards(
         every=spec.numerics.guard_every,
-        diameter=float(model.diameter.min()),
+        diameter=diameter,
         contact_stiffness=contact_law(spec, model).stiffness,
         max_step_move=GUARD_MAX_STEP_MOVE,
         max_overlap=GUARD_MAX_OVERLAP,
         max_bond_length=(1.0 + GUARD_MAX_BOND_STRETCH) * max(t.r0 for t in model.bond_types),
+        max_kinetic_jump=GUARD_MAX_KINETIC_JUMP,
+        kinetic_floor=0.5 * float(simulated_model(spec, model).mass.sum()) * floor_speed**2,
     )
 
 
