@@ -243,10 +243,11 @@ class Guards:
     kinetic_floor: float
 
 
-def guards(spec: FabricSpec, model: Model) -> Guards:
-    """The guards of a model: thresholds from :data:`GUARD_MAX_STEP_MOVE` and friends."""
+def guards(spec: FabricSpec, model: Model, dt: float) -> Guards:
+    """The guards of a model run at time step ``dt`` (us): thresholds from
+    :data:`GUARD_MAX_STEP_MOVE` and friends."""
     diameter = float(model.diameter.min())
-    floor_speed = GUARD_KINETIC_FLOOR_STEP_MOVE * diameter / time_step(spec, model).dt
+    floor_speed = GUARD_KINETIC_FLOOR_STEP_MOVE * diameter / dt
     return Guards(
         every=spec.numerics.guard_every,
         diameter=diameter,

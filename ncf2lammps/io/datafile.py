@@ -6,8 +6,8 @@ type labels travel in the file, so a deck needs nothing else to know the model. 
 bending angles (docs/fidelity.md) adds ``Angles`` (``id type atom1 atom2 atom3``), their labels
 and coefficients (``harmonic``: K, theta0; ``cosine``: K) and is read with ``atom_style hybrid
 sphere angle`` (same atom columns); without angles the file has no angle line at all. Whole
-arrays are formatted at once (no per-row Python loop); floats are written with 17 significant digits, so a
-write-read round trip returns identical arrays.
+arrays are formatted at once (no per-row Python loop); floats are written with 17 significant
+digits, so a write-read round trip returns identical arrays.
 """
 
 from __future__ import annotations

@@ -112,7 +112,7 @@ def deck_context(
         "skin": skin,
         "comm_cutoff": float(model.diameter.max()) + skin + 1.5 * longest_bond,
         "thermo_every": spec.numerics.thermo_every,
-        "guards": guards(spec, model),
+        "guards": guards(spec, model, step.dt),
         "dump_every": spec.output.dump_every_steps if scene != "verify" else 0,
         "restart_every": restart_every,
     }
