@@ -4,7 +4,7 @@ settings of runs/hpt310/spec.toml (JSON on stdout).
 Target (issue 9): <= 20 min in total on the 2-core machine. Reports wall time and steps per
 scene and the quasi-static checks (kinetic ratios against their targets, stitch tension error).
 
-    python benchmarks/time_to_solution.py [-o DIR]
+    python benchmarks/time_to_solution.py [-o DIR] [--np N]
 """
 
 from __future__ import annotations
@@ -25,12 +25,13 @@ CHECKS = ("kinetic_ratio", "max_kinetic_ratio", "kinetic_ratio_target", "stitch_
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("-o", "--output", help="keep the run here (default: a temporary folder)")
+    parser.add_argument("--np", type=int, default=2, help="MPI ranks (default 2, this machine)")
     args = parser.parse_args()
     spec = load_spec(ROOT / "runs" / "hpt310" / "spec.toml")
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(args.output or Path(tmp) / "hpt310")
         start = time.perf_counter()
-        results = read_results(run(spec, folder, force=True))
+        results = read_results(run(spec, folder, force=True, ranks=args.np))
         total = time.perf_counter() - start
     scenes = {
         name: {
@@ -46,6 +47,7 @@ def main() -> None:
             {
                 "benchmark": "time_to_solution",
                 "atoms": int(results["attrs"]["n_atoms"]),
+                "ranks": args.np,
                 "scenes": scenes,
                 "total_s": total,
                 "target_s": 1200.0,

@@ -250,7 +250,9 @@ class ManufactureSpec:
         None, 0.01, 1e6, unit="us", source="None: damping_time_us; docs/manufacture.md"
     )
     tension_tolerance: float = _f(0.01, 1e-4, 0.2, unit="-", source="issue 3: within 5 %")
-    kinetic_ratio_target: float = _f(1e-3, 1e-9, 0.5, unit="-", source="DESIGN 8: < 1 %")
+    kinetic_ratio_target: float = _f(
+        1e-3, 1e-9, 0.5, unit="-", source="kinetic energy / pretension work; DESIGN 8: < 1 %"
+    )
     max_ramp_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
     max_relax_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
     insertion_overlap_tolerance: float = _f(

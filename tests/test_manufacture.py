@@ -45,6 +45,30 @@ def test_stitch_tension_within_5_percent_and_quasi_static(manufactured):
     assert 0.2 < attrs["thickness_mm"] < 1.0
 
 
+def test_pretension_work_is_the_integral_of_tension_over_rest_length(manufactured):
+    """The deck's work integral W = L0 integral T dstrain (its denominator of kinetic / work) equals
+    the trapezoidal integral of the recorded tension over the recorded stitch strain (one row
+    per 100 steps) within 1 %, and kinetic / work is recomputed from its parts."""
+    from ncf2lammps import build_model
+
+    spec, _, results = manufactured
+    group = results["manufacture"]
+    model = build_model(spec)
+    stitch = np.array([t.role == "stitch" for t in model.bond_types])[model.bond_type]
+    rest_length_m = np.array([t.r0 for t in model.bond_types])[model.bond_type][stitch].sum() * 1e-6
+    tension, strain = group["stitch_tension_N"], group["stitch_strain"]
+    work = rest_length_m * np.sum(0.5 * (tension[1:] + tension[:-1]) * np.diff(strain))
+    assert group["attrs"]["pretension_work_J"] == pytest.approx(work, rel=0.01)
+    assert group["pretension_work_J"][-1] == pytest.approx(work, rel=0.01)
+    assert work > 0 and strain[-1] > 0
+    loaded = group["pretension_work_J"] > 0
+    np.testing.assert_allclose(
+        group["kinetic_ratio"][loaded],
+        group["kinetic_energy_J"][loaded] / group["pretension_work_J"][loaded],
+    )
+    assert np.all(np.isnan(group["kinetic_ratio"][~loaded]))
+
+
 def test_channels_open_after_needle_step(manufactured):
     """No fibre bead centre closer to a needle axis than the needle radius (images included)."""
     _, _, results = manufactured

@@ -13,8 +13,9 @@ Stages, in order (templates/manufacture.lmp.j2 marks each with ``# stage:``):
 3. ``pretension``: needles withdrawn; stitch rest lengths shrink at a constant strain rate until
    the mean stitch tension reaches the target (the paper's negative thermal load).
 4. ``relaxation``: an integral controller (``fix controller``) trims the strain to hold the target
-   while the cell relaxes; stops when the windowed tension error and kinetic ratio are below
-   their thresholds; writes ``manufactured.restart`` and ``manufactured.data``.
+   while the cell relaxes; stops when the windowed tension error and the kinetic ratio (kinetic
+   energy / work the shrinking stitch has done since the ramp began, DESIGN 8) are below their
+   thresholds; writes ``manufactured.restart`` and ``manufactured.data``.
 """
 
 from __future__ import annotations
@@ -52,6 +53,9 @@ __all__ = [
 WINDOW = 20
 #: Steps between controller updates and convergence samples.
 CONTROL_EVERY = 10
+#: History rows (of ``CONTROL_EVERY * WINDOW // 2`` steps) over which the final creep rate of the
+#: stitch strain is fitted.
+CREEP_ROWS = 20
 
 
 class ManufactureError(EngineError):
@@ -133,6 +137,8 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
     speed = units.to_micro(settings.needle_speed_m_s, "m_s")
     damping_steps = math.ceil(2 * settings.damping_time_us / dt)
     stitch_bonds = [(i + 1, t.r0) for i, t in enumerate(model.bond_types) if t.role == "stitch"]
+    bond_r0 = np.array([t.r0 for t in model.bond_types])[model.bond_type]
+    stitch_role = np.array([t.role == "stitch" for t in model.bond_types])[model.bond_type]
     mass = simulated_model(spec, model).mass
     type_mass = [float(mass[model.type_id == t - 1].mean()) for t in (*fibre_types, stitch_type)]
     return {
@@ -157,6 +163,7 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
         "strain_rate": settings.pretension_strain_rate_per_us,
         "ramp_steps": settings.max_ramp_steps,
         "stitch_bond_types": stitch_bonds,
+        "stitch_rest_length": float(bond_r0[stitch_role].sum()),
         "control_every": CONTROL_EVERY,
         "control_time": settings.control_time_us,
         "window": WINDOW,
@@ -225,9 +232,17 @@ def execute(
     return checks
 
 
+def _final_rate(time: np.ndarray, value: np.ndarray) -> float:
+    """Least-squares slope (1/us) of ``value`` over the last :data:`CREEP_ROWS` history rows:
+    the rate at which the controller still shortens the stitch when the run stops (0 at rest)."""
+    last = slice(-min(CREEP_ROWS, len(time)), None)
+    return float(np.polyfit(time[last], value[last], 1)[0]) if len(time) > 1 else math.nan
+
+
 def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict]:
     """(attrs, datasets) of /manufacture from the scene's files in ``directory``."""
     history = read_ave_time(directory / "manufacture.history.txt")
+    work = history["v_work"]
     final = read_final(directory / "manufacture.final.txt")
     checks = directory / CHECKS_FILE
     target = spec.manufacture.stitch_tension_N
@@ -241,13 +256,21 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
         "tension_tolerance": spec.manufacture.tension_tolerance,
         "kinetic_ratio": final["kinetic_ratio"],
         "kinetic_ratio_target": spec.manufacture.kinetic_ratio_target,
+        "pretension_work_J": units.from_micro(final["work"], "J"),
+        "stitch_strain": final["strain"],
+        "stitch_strain_rate_per_us": _final_rate(history["v_time"], history["v_strain"]),
         **(json.loads(checks.read_text()) if checks.is_file() else {}),
     }
     datasets = {
         "time_us": history["v_time"],
         "stitch_tension_N": units.from_micro(history["v_tension"], "N"),
         "thickness_mm": units.from_micro(history["v_thickness"], "mm"),
-        "kinetic_ratio": history["v_kinetic_ratio"],
+        "stitch_strain": history["v_strain"],
+        "kinetic_energy_J": units.from_micro(history["v_kinetic"], "J"),
+        "pretension_work_J": units.from_micro(work, "J"),
+        "kinetic_ratio": np.divide(
+            history["v_kinetic"], work, out=np.full(len(work), np.nan), where=work > 0
+        ),
     }
     return attrs, datasets
 
@@ -273,7 +296,7 @@ def figures(results: dict, directory: Path) -> list[Path]:
                 False,
             ),
             ("thickness (mm)", group["thickness_mm"], None, False),
-            ("kinetic / potential", group["kinetic_ratio"], attrs["kinetic_ratio_target"], True),
+            ("kinetic / work", group["kinetic_ratio"], attrs["kinetic_ratio_target"], True),
         ],
         "manufacture",
     )
