@@ -44,7 +44,12 @@ class SpecError(ValueError):
         self.field = field_path
         self.value = value
         self.why = why
-        super().__init__(f"{field_path} = {value!r}: {why}")
+        message = f"{field_path} = {value!r}: {why}"
+        super().__init__(_CONTROL.sub(lambda m: repr(m.group())[1:-1], message))
+
+
+#: Characters that would break the one-line message (a key may hold any of them).
+_CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u2028\u2029]")
 
 
 #: Lapping notation of the named stitch patterns (guide-bar gap positions, one overlap per course).
