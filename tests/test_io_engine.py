@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import shutil
+
 import numpy as np
 import pytest
 from conftest import CASES
 
-from ncf2lammps import build
+from ncf2lammps import build, build_model
 from ncf2lammps.engine import Checkpoints, Engine
 from ncf2lammps.io.datafile import read_data, write_data
 from ncf2lammps.io.deck import DeckValueError, render
+from ncf2lammps.scenes.build import deck_context
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -122,3 +125,35 @@ def test_resume_restores_a_feedback_controller_exactly(tmp_path):
         _controlled_run(tmp_path / "killed", resume=False, kill_at=125)
     resumed = _controlled_run(tmp_path / "killed", resume=True)
     assert resumed == pytest.approx(unbroken, rel=1e-12)
+
+
+def test_fast_contact_style_gives_the_general_styles_forces(coarse_manufactured, tmp_path):
+    """One hooke law for every pair renders ``pair_style gran/hooke/history``; a per-pair
+    friction renders ``pair_style granular``. Given the same friction everywhere, the two agree
+    on the coarse manufactured state (contacts, no history yet): per-atom forces to 1e-12 of
+    the largest at step 0, and after 2,000 steps of sliding layers (a velocity ramp of 2 m/s
+    over the cell's height: tangential history and the Coulomb limit at work) positions to
+    1e-5 d and the kinetic energy to 1e-5 (measured: 9e-16, 2e-6 d, 4e-7)."""
+    from conftest import case_spec
+
+    spec = case_spec("hpt310-coarse")
+    model = build_model(spec)
+    context = deck_context(spec, model, "verify", data_file="manufactured.data")
+    shutil.copy(coarse_manufactured / "manufactured.data", tmp_path)
+    stitch = next(i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch")
+    same_friction = [(1, stitch, context["contact"].friction)]
+    results = {}
+    for name, pairs in (("fast", []), ("general", same_friction)):
+        deck = render("verify.lmp.j2", **{**context, "friction_pairs": pairs})
+        assert ("gran/hooke/history" in deck) == (name == "fast")
+        (tmp_path / f"in.{name}.lmp").write_text(deck)
+        with Engine(tmp_path, log=None) as engine:
+            engine.file(f"in.{name}.lmp")
+            forces = engine.gather("f", 3)
+            engine.command("velocity all ramp vx 0.0 2.0 z -200.0 800.0 sum yes units box")
+            engine.command("run 2000")
+            results[name] = forces, engine.gather("x", 3), engine.thermo("ke")
+    (f_fast, x_fast, ke_fast), (f_general, x_general, ke_general) = results.values()
+    assert np.abs(f_fast - f_general).max() < 1e-12 * np.abs(f_general).max()
+    assert np.abs(x_fast - x_general).max() < 1e-5 * float(model.diameter.max())
+    assert ke_fast == pytest.approx(ke_general, rel=1e-5)

@@ -38,6 +38,14 @@ def _format_rows(columns: list[np.ndarray], formats: list[str]) -> str:
     return (row * n) % tuple(table.ravel().tolist())
 
 
+def _type_mean_mass(model: Model) -> np.ndarray:
+    """Mean bead mass of each atom type (pg), shape (n_types,); 1 for a type without beads."""
+    n_types = len(model.atom_types)
+    counts = np.bincount(model.type_id, minlength=n_types)
+    totals = np.bincount(model.type_id, weights=model.mass, minlength=n_types)
+    return np.divide(totals, counts, out=np.ones(n_types), where=counts > 0)
+
+
 def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps model") -> Path:
     """Write ``model`` as a LAMMPS data file (atom_style hybrid sphere bond, triclinic box)."""
     path = Path(path)
@@ -85,6 +93,12 @@ def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps m
         *(f"{i + 1} {t.name}" for i, t in enumerate(model.bond_types)),
         "",
         *angle_labels,
+        # Unused by the run (per-atom masses govern), but LAMMPS writes them back with write_data
+        # and refuses to read a data file whose type masses are 0.
+        "Masses",
+        "",
+        *(f"{i + 1} {m:.17g}" for i, m in enumerate(_type_mean_mass(model))),
+        "",
         "Bond Coeffs # harmonic",
         "",
         *(f"{i + 1} {t.k:.17g} {t.r0:.17g}" for i, t in enumerate(model.bond_types)),
