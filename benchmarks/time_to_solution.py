@@ -33,20 +33,24 @@ def main() -> None:
         start = time.perf_counter()
         results = read_results(run(spec, folder, force=True, ranks=args.np))
         total = time.perf_counter() - start
+    atoms = int(results["attrs"]["n_atoms"])
     scenes = {
         name: {
-            k: v.item() if hasattr(v, "item") else v
-            for k, v in group["attrs"].items()
-            if k in ("wall_s", "steps", *CHECKS)
+            **{
+                k: v.item() if hasattr(v, "item") else v
+                for k, v in group["attrs"].items()
+                if k in ("wall_s", "steps", *CHECKS)
+            },
+            "atom_steps_per_s": atoms * int(group["attrs"]["steps"]) / group["attrs"]["wall_s"],
         }
         for name, group in results.items()
-        if name != "attrs"
+        if name != "attrs" and "wall_s" in group["attrs"]
     }
     print(
         json.dumps(
             {
                 "benchmark": "time_to_solution",
-                "atoms": int(results["attrs"]["n_atoms"]),
+                "atoms": atoms,
                 "ranks": args.np,
                 "scenes": scenes,
                 "total_s": total,
