@@ -6,7 +6,7 @@ import shutil
 
 import numpy as np
 import pytest
-from conftest import CASES
+from conftest import CASES, case_spec
 
 from ncf2lammps import build, build_model
 from ncf2lammps.engine import Checkpoints, Engine
@@ -134,17 +134,17 @@ def test_fast_contact_style_gives_the_general_styles_forces(coarse_manufactured,
     the largest at step 0, and after 2,000 steps of sliding layers (a velocity ramp of 2 m/s
     over the cell's height: tangential history and the Coulomb limit at work) positions to
     1e-5 d and the kinetic energy to 1e-5 (measured: 9e-16, 2e-6 d, 4e-7)."""
-    from conftest import case_spec
-
     spec = case_spec("hpt310-coarse")
     model = build_model(spec)
-    context = deck_context(spec, model, "verify", data_file="manufactured.data")
+    # The fibre-stitch friction set to the common one: per-pair coefficients, the same law.
+    per_pair = spec.replace(contact={"fibre_stitch_friction": spec.contact.friction})
     shutil.copy(coarse_manufactured / "manufactured.data", tmp_path)
-    stitch = next(i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch")
-    same_friction = [(1, stitch, context["contact"].friction)]
     results = {}
-    for name, pairs in (("fast", []), ("general", same_friction)):
-        deck = render("verify.lmp.j2", **{**context, "friction_pairs": pairs})
+    for name, variant in (("fast", spec), ("general", per_pair)):
+        deck = render(
+            "verify.lmp.j2",
+            **deck_context(variant, model, "verify", data_file="manufactured.data"),
+        )
         assert ("gran/hooke/history" in deck) == (name == "fast")
         (tmp_path / f"in.{name}.lmp").write_text(deck)
         with Engine(tmp_path, log=None) as engine:
