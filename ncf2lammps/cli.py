@@ -111,7 +111,7 @@ def _study(args) -> int:
     vary = [parse_vary(text) for text in args.vary or []]
     if not vary:
         raise SpecError("--vary", None, "give at least one KNOB=V1,V2,...")
-    for path in study(spec, args.output, vary, args.scene, args.zip, args.tolerance):
+    for path in study(spec, args.output, vary, args.scene, args.zip, args.tolerance, args.np):
         print(f"wrote {path}")
     return 0
 
@@ -197,6 +197,9 @@ def parser() -> argparse.ArgumentParser:
     )
     study_cmd.add_argument(
         "--tolerance", type=float, default=0.03, help="error tolerance (default 0.03)"
+    )
+    study_cmd.add_argument(
+        "--np", type=int, default=1, metavar="N", help="MPI ranks per point (default 1)"
     )
     study_cmd.set_defaults(func=_study)
     validate = verbs.add_parser(

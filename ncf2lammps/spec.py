@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 __all__ = [
+    "HEXAGONAL_PACKING",
     "PATTERNS",
     "CellSpec",
     "CompactionSpec",
@@ -47,6 +48,9 @@ class SpecError(ValueError):
         message = f"{field_path} = {value!r}: {why}"
         super().__init__(_CONTROL.sub(lambda m: repr(m.group())[1:-1], message))
 
+
+#: Densest packing of parallel cylinders, pi / (2 sqrt 3): the largest fibre Vf of solid chains.
+HEXAGONAL_PACKING = math.pi / (2.0 * math.sqrt(3.0))
 
 #: Characters that would break the one-line message (a key may hold any of them).
 _CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u2028\u2029]")
@@ -267,13 +271,21 @@ class ManufactureSpec:
 
 @dataclass(frozen=True)
 class CompactionSpec:
-    """Compaction scene: plates closing at a constant speed down to a final Vf."""
+    """Compaction scene: plates closing at a constant speed down to a final Vf, or until the
+    pressure first exceeds ``max_pressure_kPa``."""
 
     final_fvf: float = _f(0.67, 0.05, 0.9, unit="-", source="paper Fig. 5c")
     plate_speed_m_s: float | None = _f(
         None, 1e-6, 100.0, unit="m/s", source="None: from inertial_number"
     )
     inertial_number: float = _f(0.05, 1e-5, 1.0, unit="-", source="docs/compaction.md")
+    max_pressure_kPa: float | None = _f(
+        None,
+        20.0,
+        1e7,
+        unit="kPa",
+        source="None: stop at final_fvf only; above the 18 kPa reported",
+    )
     reference_pressure_kPa: float = _f(1.0, 1e-3, 1e4, unit="kPa", source="DIN ISO 5084")
     kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="DESIGN 8: < 1 %")
     record_every_um: float = _f(1.0, 1e-3, 1e3, unit="um", source="gap resolution of the curve")
@@ -507,6 +519,14 @@ def _check_consistency(spec: FabricSpec) -> None:
             "discretisation.bending",
             "cosine",
             "rests at 180 deg only: use 'harmonic' with mat.waviness_amplitude_um > 0",
+        )
+    densest = spec.discretisation.chain_internal_fvf * HEXAGONAL_PACKING
+    if spec.compaction.final_fvf > densest:
+        raise SpecError(
+            "compaction.final_fvf",
+            spec.compaction.final_fvf,
+            f"out of range: chains of internal Vf {spec.discretisation.chain_internal_fvf:g}"
+            f" reach at most {densest:.3f} (hexagonal packing); allowed [0.05, {densest:.3f}]",
         )
     length, width = spec.cell_mm
     d_mm = spec.discretisation.chain_diameter_um * 1e-3

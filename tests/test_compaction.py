@@ -37,7 +37,8 @@ def test_contract_names_and_lengths(compacted):
     ):
         assert key in group["attrs"]
     deck = (folder / "decks" / "in.compaction.lmp").read_text()
-    for absent in ("deform", "adapt", "needle", "wall/region "):
+    assert group["attrs"]["stopped_by"] == "final_fvf"
+    for absent in ("deform", "adapt", "needle", "wall/region ", "final_pressure"):
         assert absent not in deck
 
 
@@ -66,6 +67,23 @@ def test_interpolated_attributes_agree_with_curve(compacted):
     fvf = np.interp(-attrs["thickness_at_18kPa_mm"], -gap, group["fvf"])
     assert attrs["fvf_at_18kPa"] == pytest.approx(fvf, rel=1e-3)
     np.testing.assert_allclose(group["fvf"] * gap, group["fvf"][0] * gap[0], rtol=1e-12)
+
+
+def test_plates_stop_at_the_first_record_past_max_pressure(coarse_manufactured, tmp_path):
+    """With ``max_pressure_kPa`` the plates stop at the first record whose pressure exceeds it
+    (the halt checks on the record cadence): every earlier record is below, the last above,
+    and Vf stops short of final_fvf; t at 18 kPa is still on the curve."""
+    limit = 40.0
+    spec = case_spec("hpt310-coarse").replace(compaction={**FAST, "max_pressure_kPa": limit})
+    folder = copy_run(coarse_manufactured, tmp_path / "run")
+    group = read_results(run_scenes(spec, folder, ["compaction"]))["compaction"]
+    attrs, pressure = group["attrs"], group["pressure_kPa"]
+    assert attrs["stopped_by"] == "max_pressure_kPa"
+    assert pressure[-1] > limit and np.all(pressure[:-1] <= limit)
+    assert attrs["reached_fvf"] == pytest.approx(group["fvf"][-1])
+    assert attrs["reached_fvf"] < FAST["final_fvf"]
+    assert np.isfinite(attrs["thickness_at_18kPa_mm"])
+    assert "final_pressure" in (folder / "decks" / "in.compaction.lmp").read_text()
 
 
 def test_curve_thickness_at_is_exact_on_a_line():

@@ -40,6 +40,12 @@ def test_cases_load_and_resolve_round_trip(case, tmp_path):
         ({"numerics": {"thermo_every": 10.5}}, "numerics.thermo_every", "whole number"),
         ({"cell": {"length_mm": 5.0}}, "cell.length_mm", "multiple of the repeat"),
         ({"stitch": {"needle_diameter_mm": 4.0}}, "stitch.needle_diameter_mm", "hole spacing"),
+        ({"compaction": {"max_pressure_kPa": 10.0}}, "compaction.max_pressure_kPa", "[20, 1e+07]"),
+        (  # fibre Vf of chains of internal Vf 0.6 is at most 0.6 pi / (2 sqrt 3) = 0.544
+            {"discretisation": {"chain_diameter_um": 250.0, "chain_internal_fvf": 0.6}},
+            "compaction.final_fvf",
+            "allowed [0.05, 0.544]",
+        ),
     ],
 )
 def test_bad_values_name_field_and_range(tables, field, words):

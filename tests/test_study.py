@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import shutil
 import subprocess
 import sys
 
@@ -11,6 +12,7 @@ import pytest
 from conftest import tiny_spec
 
 from ncf2lammps.analysis.study import pareto_front, relative_errors
+from ncf2lammps.io.results import read_results
 from ncf2lammps.io.spectoml import write_spec
 from ncf2lammps.scenes.study import study, study_grid
 
@@ -111,3 +113,32 @@ def test_study_resumes_by_reusing_complete_points(compaction_study):
     assert [r["max_error"] for r in rows] == [
         r["max_error"] for r in csv.DictReader(before.splitlines())
     ]
+
+
+def test_study_keeps_a_folder_manufacture_and_reruns_only_changed_scenes(
+    compaction_study, tmp_path
+):
+    """Same model and manufacture, other test settings: each point keeps its folder's
+    manufacture (identical outputs); a compaction whose table is unchanged is kept too
+    (a shear setting changed), one whose table changed runs again."""
+    spec, source = compaction_study
+    folder = tmp_path / "study"
+    shutil.copytree(source, folder)
+    vary = [("compaction.inertial_number", [0.8, 0.4])]
+    before = list(csv.DictReader(open(folder / "study.csv")))
+
+    study(spec.replace(shear={"inertial_number": 0.2}), folder, vary, ["compaction"])
+    kept = list(csv.DictReader(open(folder / "study.csv")))
+    assert [r["status"] for r in kept] == ["ok (reused manufacture, compaction)"] * 2
+    for old, new in zip(before, kept, strict=True):
+        assert new["thickness_at_1kPa_mm"] == old["thickness_at_1kPa_mm"]
+        assert new["steps"] == old["steps"]
+
+    study(spec.replace(compaction={"final_fvf": 0.45}), folder, vary, ["compaction"])
+    rerun = list(csv.DictReader(open(folder / "study.csv")))
+    assert [r["status"] for r in rerun] == ["ok (reused manufacture)"] * 2
+    for old, new in zip(before, rerun, strict=True):
+        assert new["stitch_tension_N"] == old["stitch_tension_N"]
+        assert int(new["steps"]) < int(old["steps"])  # the plates stop at a wider gap
+    stored = read_results(folder / "points" / "p00" / "results.h5")["attrs"]["spec_toml"]
+    assert "final_fvf = 0.45" in (stored.decode() if isinstance(stored, bytes) else stored)

@@ -91,7 +91,14 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
         "steps": math.ceil(travel / speed / dt),
         "record_every": record,
         "final_gap": _final_gap(spec, model),
+        "max_pressure": _max_pressure(spec),
     }
+
+
+def _max_pressure(spec: FabricSpec) -> float | None:
+    """Pressure (LAMMPS micro units) at which the plates stop early, or None."""
+    limit = spec.compaction.max_pressure_kPa
+    return None if limit is None else units.to_micro(limit, "kPa")
 
 
 def execute(
@@ -100,6 +107,13 @@ def execute(
     """Run decks/in.compaction.lmp (on every rank); no attributes of its own."""
     engine.run_deck("decks/in.compaction.lmp", chunk=5000, on_chunk=progress, checkpoint=checkpoint)
     return {}
+
+
+def _stopped_by(spec: FabricSpec, pressure: np.ndarray) -> str:
+    """Which end stopped the plates: ``"max_pressure_kPa"`` if the last record is past it."""
+    limit = _max_pressure(spec)
+    stopped = limit is not None and len(pressure) and pressure[-1] > limit
+    return "max_pressure_kPa" if stopped else "final_fvf"
 
 
 def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict]:
@@ -137,6 +151,8 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
         "energy_balance_residual": energy_balance_residual(work, kinetic, potential),
         "plate_speed_m_s": units.from_micro(plate_speed(spec, model), "m_s"),
         "final_fvf": spec.compaction.final_fvf,
+        "reached_fvf": float(curve.fvf[-1]) if len(gap) else math.nan,
+        "stopped_by": _stopped_by(spec, pressure),
     }
     datasets = {
         "time_us": history["v_time"][keep],

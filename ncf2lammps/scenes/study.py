@@ -6,9 +6,12 @@ Stages of :func:`study`:
    every point's spec validated before anything runs; the reference is the point whose knobs
    all sit at their conservative end (:data:`KNOBS`: finest, slowest, unscaled);
 2. each point runs in ``points/pNN`` like ``ncf2lammps run``; a point whose results are
-   complete for the same spec is reused (a killed study resumes), and a point whose model and
-   manufacture settings equal an earlier point's starts from a copy of that manufactured state
-   and runs only the test scenes (its wall time still counts the manufacture it reuses);
+   complete for the same spec is reused (a killed study resumes); a point whose folder holds
+   a finished manufacture of the same model and settings (say, from a study run with other
+   compaction settings) keeps it, and each test scene that finished with the same table, and
+   runs only the rest; a point whose model and manufacture settings equal an earlier point's
+   starts from a copy of that manufactured state and runs only the test scenes (wall times
+   still count the scenes reused);
 3. the table: each output (:data:`OUTPUTS`), its relative error against the reference, the
    largest error, wall time, steps and the Pareto front (no faster point is as accurate):
    ``study.csv``, ``study.md`` and ``study.png``, written last.
@@ -152,10 +155,45 @@ def _is_complete(directory: Path, spec: FabricSpec) -> bool:
     return bool(root.get("complete")) and spec_toml == dumps_spec(spec)
 
 
+def _reusable_scenes(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -> set[str]:
+    """Scenes of ``scenes`` finished in ``directory`` whose result ``spec`` would not change.
+
+    Empty unless the folder's manufacture (or, without stitch, its model) is ``spec``'s: then
+    the manufacture is reusable, and each test scene that finished with the same table too
+    (compaction and shear each start from the manufactured state, not from one another).
+    """
+    path = directory / "results.h5"
+    if not path.is_file():
+        return set()
+    content = read_results(path)
+    stored = content["attrs"].get("spec_toml")
+    if isinstance(stored, bytes):
+        stored = stored.decode()
+    try:
+        old = tomllib.loads(stored)
+    except (TypeError, tomllib.TOMLDecodeError):
+        return set()
+    new = tomllib.loads(dumps_spec(spec))
+    tables = {t: (old.pop(t, None), new.pop(t, None)) for t in TEST_TABLES}
+    if old != new:
+        return set()
+    finished = {k for k, v in content.items() if k != "attrs" and v["attrs"].get("complete")}
+    if "manufacture" in scenes and "manufacture" not in finished:
+        return set()
+    same = {"manufacture"} | {t for t, (before, now) in tables.items() if before == now}
+    return set(scenes) & finished & same
+
+
 def _run_from_manufactured(
-    point: StudyPoint, source: Path, directory: Path, scenes: Sequence[str]
+    point: StudyPoint,
+    source: Path,
+    directory: Path,
+    scenes: Sequence[str],
+    ranks: int = 1,
+    keep: Sequence[str] = ("manufacture",),
 ) -> None:
-    """Copy ``source`` (manufactured) to ``directory`` and run the test ``scenes`` there."""
+    """Copy ``source`` (manufactured) to ``directory`` and run the ``scenes`` not in ``keep``
+    there, on ``ranks`` MPI ranks (``directory`` may be ``source``: replaced when done)."""
     partial = directory.with_name(f"{directory.name}.partial-{os.getpid()}")
     shutil.rmtree(partial, ignore_errors=True)
     shutil.copytree(source, partial)
@@ -169,7 +207,7 @@ def _run_from_manufactured(
                 "created": datetime.now(UTC).isoformat(timespec="seconds"),
             },
         )
-        run_scenes(point.spec, partial, [s for s in scenes if s != "manufacture"])
+        run_scenes(point.spec, partial, [s for s in scenes if s not in keep], ranks=ranks)
         mark_complete(results)
         write_report(partial)
         shutil.rmtree(directory, ignore_errors=True)
@@ -201,8 +239,10 @@ def study(
     scenes: Sequence[str] | None = None,
     zipped: bool = False,
     tolerance: float = 0.03,
+    ranks: int = 1,
 ) -> list[Path]:
-    """Run the grid (see the module docstring); returns the files written."""
+    """Run the grid (see the module docstring) on ``ranks`` MPI ranks; returns the files
+    written."""
     points, reference = study_grid(spec, vary, zipped)
     wanted = scenes_to_run(spec, scenes)
     directory = Path(directory)
@@ -219,10 +259,13 @@ def study(
         try:
             if _is_complete(folder, point.spec):
                 status = "ok (reused)"
+            elif keep := _reusable_scenes(folder, point.spec, wanted):
+                _run_from_manufactured(point, folder, folder, wanted, ranks, sorted(keep))
+                status = f"ok (reused {', '.join(s for s in wanted if s in keep)})"
             elif (key := _manufacture_key(point.spec)) in manufactured and "manufacture" in wanted:
-                _run_from_manufactured(point, manufactured[key], folder, wanted)
+                _run_from_manufactured(point, manufactured[key], folder, wanted, ranks)
             else:
-                run(point.spec, folder, wanted, force=True)
+                run(point.spec, folder, wanted, force=True, ranks=ranks)
             row = _point_row(folder, wanted)
             if "manufacture" in wanted:
                 manufactured.setdefault(_manufacture_key(point.spec), folder)

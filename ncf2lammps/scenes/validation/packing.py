@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ... import units
+from ...spec import HEXAGONAL_PACKING
 from .common import (
     E_CARBON,
     RHO_CARBON,
@@ -44,7 +45,6 @@ from .plots import line_plot
 __all__ = ["run"]
 
 CASE = "6 packing"
-HEX = math.pi / (2 * math.sqrt(3))
 TOLERANCE = 0.01
 
 
@@ -52,7 +52,7 @@ def _bundle(workdir: Path, shift: bool, full: bool) -> tuple[float, np.ndarray, 
     """Compress one bundle; returns (locking Vf, Vf record, lateral pressure record kPa)."""
     spacing, n_side, per_chain = D / 2, 6, 8
     vf_start, vf_end = 0.80, 0.95
-    pitch = D * math.sqrt(HEX / vf_start)
+    pitch = D * math.sqrt(HEXAGONAL_PACKING / vf_start)
     atom, bond, density = fibre("chain", D, spacing, E_CARBON, RHO_CARBON)
     chains = ChainSet()
     chains.add_type(atom, bond, density)
@@ -101,10 +101,17 @@ def _bundle(workdir: Path, shift: bool, full: bool) -> tuple[float, np.ndarray, 
 
 def run(workdir: Path, full: bool = False) -> CaseResult:
     """Run case 6 in ``workdir``; returns its rows and plot."""
-    nested = HEX / (1 - (0.5 / 3) ** 2)
+    nested = HEXAGONAL_PACKING / (1 - (0.5 / 3) ** 2)
     side, vf_a, p_a = _bundle(workdir / "side_by_side", False, full)
     checks = [
-        Check(CASE, "locking Vf, beads side by side", "Vf = pi / (2 sqrt 3)", HEX, side, TOLERANCE)
+        Check(
+            CASE,
+            "locking Vf, beads side by side",
+            "Vf = pi / (2 sqrt 3)",
+            HEXAGONAL_PACKING,
+            side,
+            TOLERANCE,
+        )
     ]
     curves = [(vf_a, units.from_micro(p_a, "MPa"), f"side by side: lock {side:.4f}")]
     shifted, vf_b, p_b = _bundle(workdir / "nested", True, full)
