@@ -126,10 +126,13 @@ def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict
     per_area = model.fibre_volume / model.cell_area
     curve = CompactionCurve(units.from_micro(gap, "mm"), pressure, units.from_micro(per_area, "mm"))
     curve.compute()
-    # External work W = integral of plate force over travel; kinetic ratio KE / W once loaded.
+    # External work W = integral of plate force over travel; kinetic ratio KE / W once loaded:
+    # from the first record where the smoothed pressure reaches the reference pressure (the
+    # lowest reported), so that the check does not depend on where the plates stop.
     force = 0.5 * (history["v_force_top"] + history["v_force_bottom"])[keep]
     work = np.concatenate([[0.0], np.cumsum(0.5 * (force[1:] + force[:-1]) * -np.diff(gap))])
-    loaded = work > 1e-3 * work[-1] if len(work) and work[-1] > 0 else np.zeros(len(work), bool)
+    reached = curve.smoothed >= units.to_micro(spec.compaction.reference_pressure_kPa, "kPa")
+    loaded = np.maximum.accumulate(reached) & (work > 0.0)
     kinetic = history["v_kinetic"][keep]
     ratio = kinetic[loaded] / work[loaded]
     # Quasi-static plates carry equal forces: the work-weighted top/bottom mismatch once loaded.
