@@ -173,6 +173,7 @@ def _reusable_scenes(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -
         old = tomllib.loads(stored)
     except (TypeError, tomllib.TOMLDecodeError):
         return set()
+    # Compared as TOML tables, not as specs: a stored spec may fail a rule added since.
     new = tomllib.loads(dumps_spec(spec))
     tables = {t: (old.pop(t, None), new.pop(t, None)) for t in TEST_TABLES}
     if old != new:
