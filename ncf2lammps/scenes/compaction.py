@@ -112,7 +112,7 @@ def execute(
 def _stopped_by(spec: FabricSpec, pressure: np.ndarray) -> str:
     """Which end stopped the plates: ``"max_pressure_kPa"`` if the last record is past it."""
     limit = _max_pressure(spec)
-    stopped = limit is not None and len(pressure) and pressure[-1] > limit
+    stopped = limit is not None and pressure.size > 0 and pressure[-1] > limit
     return "max_pressure_kPa" if stopped else "final_fvf"
 
 

@@ -137,11 +137,17 @@ def study_grid(
     return points, reference[0]
 
 
+def _split_tables(spec_toml: str) -> tuple[dict, dict]:
+    """A spec's TOML text as (everything the manufactured state depends on, test tables).
+
+    Parsed as TOML, not validated: a stored spec may fail a rule added since.
+    """
+    data = tomllib.loads(spec_toml)
+    return data, {table: data.pop(table, None) for table in TEST_TABLES}
+
+
 def _manufacture_key(spec: FabricSpec) -> str:
-    data = spec.to_dict()
-    for table in TEST_TABLES:
-        data.pop(table, None)
-    return json.dumps(data, sort_keys=True)
+    return json.dumps(_split_tables(dumps_spec(spec))[0], sort_keys=True)
 
 
 def _is_complete(directory: Path, spec: FabricSpec) -> bool:
@@ -170,18 +176,16 @@ def _reusable_scenes(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -
     if isinstance(stored, bytes):
         stored = stored.decode()
     try:
-        old = tomllib.loads(stored)
+        old, old_tests = _split_tables(stored)
     except (TypeError, tomllib.TOMLDecodeError):
         return set()
-    # Compared as TOML tables, not as specs: a stored spec may fail a rule added since.
-    new = tomllib.loads(dumps_spec(spec))
-    tables = {t: (old.pop(t, None), new.pop(t, None)) for t in TEST_TABLES}
+    new, new_tests = _split_tables(dumps_spec(spec))
     if old != new:
         return set()
     finished = {k for k, v in content.items() if k != "attrs" and v["attrs"].get("complete")}
     if "manufacture" in scenes and "manufacture" not in finished:
         return set()
-    same = {"manufacture"} | {t for t, (before, now) in tables.items() if before == now}
+    same = {"manufacture"} | {t for t in TEST_TABLES if old_tests[t] == new_tests[t]}
     return set(scenes) & finished & same
 
 
