@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -12,6 +13,22 @@ from ncf2lammps import load_spec, spec_from_dict
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = ("hpt310", "hpt310-coarse", "mat-only")
+GOLDEN = ROOT / "tests" / "golden"
+UPDATE = os.environ.get("NCF2LAMMPS_UPDATE_GOLDEN") == "1"
+
+
+def compare_or_update(produced: dict[str, str], folder: Path) -> None:
+    """Assert that ``produced`` ({relative name: text}) equals the files under ``folder``
+    (both ways: no file missing, none extra); with ``NCF2LAMMPS_UPDATE_GOLDEN=1`` write them."""
+    if UPDATE:
+        for name, text in produced.items():
+            (folder / name).parent.mkdir(parents=True, exist_ok=True)
+            (folder / name).write_text(text)
+        return
+    stored = {str(p.relative_to(folder)): p.read_text() for p in folder.rglob("*") if p.is_file()}
+    assert sorted(produced) == sorted(stored), f"golden files of {folder.name} differ in names"
+    for name, text in produced.items():
+        assert text == stored[name], f"{folder.name}/{name} differs from its golden file"
 
 
 def case_spec(name: str):

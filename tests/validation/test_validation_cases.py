@@ -10,10 +10,22 @@ import math
 
 import numpy as np
 import pytest
+from conftest import GOLDEN, compare_or_update
 
-from ncf2lammps.scenes.validation import CASES, run_case
+from ncf2lammps.scenes.validation import CASES
+from ncf2lammps.scenes.validation import run_case as _run_case
 from ncf2lammps.scenes.validation.crossover import analytic_fn
 from ncf2lammps.scenes.validation.sliding import roughness_estimate
+
+
+def run_case(name, output):
+    """Run the fast form of case ``name``; its rendered decks must equal their golden files."""
+    result = _run_case(name, output)
+    decks = {
+        str(p.relative_to(output / name)): p.read_text() for p in (output / name).rglob("*.lmp")
+    }
+    compare_or_update(decks, GOLDEN / "validation" / name)
+    return result
 
 
 def _rows(result):
@@ -95,6 +107,6 @@ def test_roughness_estimate_matches_design():
 @pytest.mark.parametrize("name", list(CASES))
 def test_full_case(name, tmp_path):
     """The full set: every check of every case within its tolerance."""
-    result = run_case(name, tmp_path, full=True)
+    result = _run_case(name, tmp_path, full=True)
     failed = [c.row() for c in result.checks if not c.passed]
     assert not failed, failed
