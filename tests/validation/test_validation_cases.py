@@ -6,6 +6,7 @@ Each test asserts the law with the tolerance stated in the case's docstring.
 
 from __future__ import annotations
 
+import hashlib
 import math
 
 import numpy as np
@@ -19,10 +20,13 @@ from ncf2lammps.scenes.validation.sliding import roughness_estimate
 
 
 def run_case(name, output):
-    """Run the fast form of case ``name``; its rendered decks must equal their golden files."""
+    """Run the fast form of case ``name``; its decks and data files must equal their golden files."""
     result = _run_case(name, output)
-    decks = {
-        str(p.relative_to(output / name)): p.read_text() for p in (output / name).rglob("*.lmp")
+    folder = output / name
+    decks = {str(p.relative_to(folder)): p.read_text() for p in folder.rglob("*.lmp")}
+    decks |= {
+        f"{p.relative_to(folder)}.sha256": hashlib.sha256(p.read_bytes()).hexdigest() + "\n"
+        for p in folder.rglob("model.data")
     }
     compare_or_update(decks, GOLDEN / "validation" / name)
     return result
