@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ncf2lammps import load_spec, spec_from_dict
 from ncf2lammps.engine import Engine
-from ncf2lammps.scenes.build import build
+from ncf2lammps.orchestration.build import build
 
 ROOT = Path(__file__).resolve().parent.parent
 LMP = shutil.which("lmp", path=str(Path(sys.executable).parent)) or "lmp"

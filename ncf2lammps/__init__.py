@@ -14,8 +14,8 @@ __version__ = "0.1.0"
 
 from .model import Model, build_model
 from .numerics import time_step
-from .scenes import build
-from .scenes.run import run, run_scenes
+from .orchestration.build import build
+from .orchestration.run import run, run_scenes
 from .spec import FabricSpec, SpecError, load_spec, spec_from_dict
 
 __all__ = [

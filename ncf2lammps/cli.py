@@ -14,10 +14,11 @@ from . import __version__, units
 from .engine import EngineError
 from .model import build_model
 from .numerics import STABLE_FRACTION, contact_law, simulated_model, time_step
-from .scenes.build import SCENES, OutputExistsError, build
-from .scenes.export import export
-from .scenes.report import write_report
-from .scenes.run import run
+from .orchestration.build import OutputExistsError, build
+from .orchestration.export import export
+from .orchestration.report import write_report
+from .orchestration.run import run
+from .scenes import SCENES
 from .spec import SpecError, load_spec
 
 
@@ -103,7 +104,7 @@ def _report(args) -> int:
 
 
 def _study(args) -> int:
-    from .scenes.study import parse_vary, study
+    from .orchestration.study import parse_vary, study
 
     spec = load_spec(args.spec)
     if not 0.0 < args.tolerance < 1.0:
@@ -148,7 +149,7 @@ def parser() -> argparse.ArgumentParser:
     run_cmd.add_argument(
         "--scene",
         action="append",
-        choices=SCENES,
+        choices=list(SCENES),
         help="scene to run (repeat; default: all the spec supports)",
     )
     run_cmd.add_argument("--force", action="store_true", help="replace a non-empty folder")
@@ -193,7 +194,7 @@ def parser() -> argparse.ArgumentParser:
         "--zip", action="store_true", help="pair the --vary lists by position (default: product)"
     )
     study_cmd.add_argument(
-        "--scene", action="append", choices=SCENES, help="scene to run (repeat; default: all)"
+        "--scene", action="append", choices=list(SCENES), help="scene to run (repeat; default: all)"
     )
     study_cmd.add_argument(
         "--tolerance", type=float, default=0.03, help="error tolerance (default 0.03)"

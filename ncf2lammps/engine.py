@@ -415,13 +415,13 @@ class Engine:
         path: str | os.PathLike,
         chunk: int,
         on_stage: Callable[[str], None] | None = None,
-        on_chunk: Callable[[str, int, int], None] | None = None,
+        on_chunk: Callable[[str, int, int, int], None] | None = None,
         checkpoint: Checkpoints | None = None,
     ) -> None:
         """Run a deck line by line, splitting each plain ``run N`` into chunks of ``chunk`` steps.
 
         Lines ``# stage: NAME`` call ``on_stage(NAME)`` before the stage's commands run. After
-        every chunk ``on_chunk(stage, step, run_end)`` is called and the kinetic and potential
+        every chunk ``on_chunk(stage, step, run_start, run_end)`` is called and the kinetic and potential
         energies are checked for NaN/inf. A run stopped early by ``fix halt`` (step short of
         the chunk's end) ends that ``run`` command; the deck continues.
 
@@ -485,7 +485,7 @@ class Engine:
             first = False
             self._check_finite(stage)
             if on_chunk is not None:
-                on_chunk(stage, self.step, end)
+                on_chunk(stage, self.step, start, end)
             if self.step < before + n:  # halted by a fix halt
                 break
             if every and self.step % every == 0:

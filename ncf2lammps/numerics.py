@@ -32,7 +32,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from . import units
-from .model import Model
+from .model import Model, build_model
 from .spec import FabricSpec, SpecError
 
 __all__ = [
@@ -45,10 +45,12 @@ __all__ = [
     "STABLE_FRACTION",
     "ContactLaw",
     "Guards",
+    "Prepared",
     "TimeStep",
     "contact_law",
     "guards",
     "inertial_strain_rate",
+    "prepare",
     "simulated_model",
     "time_step",
 ]
@@ -271,3 +273,34 @@ def inertial_strain_rate(model: Model, inertial_number: float, pressure: float) 
     rho = float(np.mean([t.density for t in model.atom_types if t.role == "fibre"]))
     d = float(model.diameter[fibre].mean())
     return inertial_number * float(np.sqrt(pressure / rho)) / d
+
+
+@dataclass(frozen=True)
+class Prepared:
+    """One run's model and numerics, computed once and passed to every scene and writer.
+
+    Attributes: ``spec``; ``model`` (physical masses and stiffnesses); ``simulated`` (the model
+    LAMMPS integrates, :func:`simulated_model`); ``time_step``; ``contact`` (the contact law);
+    ``guards`` (the stability guards at ``time_step.dt``).
+    """
+
+    spec: FabricSpec
+    model: Model
+    simulated: Model
+    time_step: TimeStep
+    contact: ContactLaw
+    guards: Guards
+
+
+def prepare(spec: FabricSpec, model: Model | None = None) -> Prepared:
+    """The :class:`Prepared` run of ``spec`` (its model built unless given)."""
+    model = build_model(spec) if model is None else model
+    step = time_step(spec, model)
+    return Prepared(
+        spec=spec,
+        model=model,
+        simulated=simulated_model(spec, model),
+        time_step=step,
+        contact=contact_law(spec, model),
+        guards=guards(spec, model, step.dt),
+    )

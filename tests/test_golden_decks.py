@@ -11,13 +11,17 @@ and shows up in the diff for review.
 from __future__ import annotations
 
 import hashlib
+import math
+import re
 from pathlib import Path
 
 import pytest
 from conftest import CASES, GOLDEN, case_spec, compare_or_update
 
 from ncf2lammps import build
-from ncf2lammps.scenes.export import export
+from ncf2lammps.numerics import prepare
+from ncf2lammps.orchestration.export import export
+from ncf2lammps.scenes import applicable_scenes, render_deck
 
 
 def _sha256(path: Path) -> str:
@@ -34,3 +38,20 @@ def test_committed_case_decks_match_golden_files(case, tmp_path):
     produced["bundle/in.run_all.lmp"] = (bundle / "in.run_all.lmp").read_text()
     produced["model.data.sha256"] = _sha256(built / "model.data")
     compare_or_update(produced, GOLDEN / case)
+
+
+#: The period N of every periodic fix in a deck: ``fix ave/time Nevery Nrepeat N``, ``halt N``,
+#: ``print N``, ``controller N``.
+PERIODIC = re.compile(
+    r"^fix\s+\S+\s+\S+\s+(?:ave/time\s+\d+\s+\d+|halt|print|controller)\s+(\d+)\b", re.M
+)
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_deck_period_is_the_lcm_of_its_periodic_fixes(case):
+    """A deck's declared period (a value, never parsed) equals the least common multiple of the
+    periods of the periodic fixes in its text, so checkpoints split no recording window."""
+    run = prepare(case_spec(case))
+    for name in ("verify", *applicable_scenes(run.spec)):
+        deck = render_deck(run, name, plain_lmp=True)
+        assert deck.period == math.lcm(*map(int, PERIODIC.findall(deck.text))), name

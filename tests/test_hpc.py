@@ -26,7 +26,7 @@ from conftest import case_spec, copy_run
 from ncf2lammps import run_scenes
 from ncf2lammps.io.results import read_results
 from ncf2lammps.io.spectoml import write_spec
-from ncf2lammps.scenes.run import mpiexec
+from ncf2lammps.orchestration.run import mpiexec
 
 FAST = {
     "compaction": {"inertial_number": 0.1, "final_fvf": 0.5},

@@ -12,7 +12,8 @@ from ncf2lammps import build, build_model
 from ncf2lammps.engine import Checkpoints, Engine
 from ncf2lammps.io.datafile import read_data, write_data
 from ncf2lammps.io.deck import DeckValueError, render
-from ncf2lammps.scenes.build import deck_context
+from ncf2lammps.numerics import prepare
+from ncf2lammps.scenes import deck_context
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -143,7 +144,7 @@ def test_fast_contact_style_gives_the_general_styles_forces(coarse_manufactured,
     for name, variant in (("fast", spec), ("general", per_pair)):
         deck = render(
             "verify.lmp.j2",
-            **deck_context(variant, model, "verify", data_file="manufactured.data"),
+            **deck_context(prepare(variant, model), "verify", data_file="manufactured.data"),
         )
         assert ("gran/hooke/history" in deck) == (name == "fast")
         (tmp_path / f"in.{name}.lmp").write_text(deck)

@@ -11,7 +11,7 @@ from conftest import tiny_spec
 from ncf2lammps import build_model
 from ncf2lammps.io.datafile import read_data
 from ncf2lammps.numerics import simulated_model, time_step
-from ncf2lammps.scenes.build import build
+from ncf2lammps.orchestration.build import build
 
 
 def test_bead_limit_is_the_chain_limit_without_contacts_and_governs_with_them():

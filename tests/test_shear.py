@@ -11,7 +11,7 @@ from conftest import case_spec, copy_run
 from ncf2lammps import build_model, run, run_scenes
 from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
-from ncf2lammps.scenes.report import write_report
+from ncf2lammps.orchestration.report import write_report
 from ncf2lammps.scenes.shear import DEFORM_EVERY, shear_rate
 from ncf2lammps.spec import SpecError
 

@@ -14,7 +14,7 @@ from conftest import tiny_spec
 from ncf2lammps.analysis.study import pareto_front, relative_errors
 from ncf2lammps.io.results import read_results
 from ncf2lammps.io.spectoml import write_spec
-from ncf2lammps.scenes.study import study, study_grid
+from ncf2lammps.orchestration.study import study, study_grid
 
 
 def test_pareto_front_keeps_points_no_faster_point_beats():

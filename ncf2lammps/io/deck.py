@@ -17,12 +17,9 @@ from pathlib import Path
 import jinja2
 import numpy as np
 
-__all__ = ["DeckValueError", "cadence", "render", "template_dir"]
+__all__ = ["DeckValueError", "render", "template_dir"]
 
 _WORD = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_./+-]*$")
-_PERIODIC = re.compile(
-    r"^fix\s+\S+\s+\S+\s+(?:ave/time\s+\d+\s+\d+|halt|print|controller)\s+(\d+)\b", re.M
-)
 
 
 class DeckValueError(ValueError):
@@ -90,12 +87,6 @@ def _environment() -> jinja2.Environment:
     env.filters["num"] = _num
     env.filters["word"] = _word
     return env
-
-
-def cadence(deck: str) -> int:
-    """Least common multiple of the periods (steps) of the deck's ``fix ave/time`` (Nfreq),
-    ``halt``, ``print`` and ``controller``: a checkpoint at a multiple of it splits no window."""
-    return math.lcm(1, *(int(n) for n in _PERIODIC.findall(deck)))
 
 
 def render(template: str, **values) -> str:

@@ -1,5 +1,18 @@
-"""Scenes: one virtual process or test each, with its own deck; ``build`` writes the run folder."""
+"""Scenes: one virtual process or test each, with its own deck (:mod:`.base` for the protocol).
 
-from .build import Build, build, deck_context, prepare_output
+:data:`SCENES` is the registry, in run order; each entry is its module's ``SCENE``.
+"""
 
-__all__ = ["Build", "build", "deck_context", "prepare_output"]
+from . import compaction, manufacture, shear
+from .base import Scene, execute
+from .deck import Deck, deck_context, render_deck
+
+__all__ = ["SCENES", "Deck", "Scene", "applicable_scenes", "deck_context", "execute", "render_deck"]
+
+#: The scenes in the order a run executes them.
+SCENES: dict[str, Scene] = {s.name: s for s in (manufacture.SCENE, compaction.SCENE, shear.SCENE)}
+
+
+def applicable_scenes(spec) -> tuple[str, ...]:
+    """The scenes a spec supports, in run order (manufacture needs a stitch)."""
+    return tuple(name for name, scene in SCENES.items() if scene.applies(spec))

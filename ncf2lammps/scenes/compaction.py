@@ -24,22 +24,17 @@ import numpy as np
 from .. import units
 from ..analysis.compaction import CompactionCurve
 from ..analysis.energy import energy_balance_residual
-from ..engine import Checkpoints, Engine
 from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
-from ..numerics import contact_law, inertial_strain_rate, time_step
+from ..numerics import Prepared, inertial_strain_rate
 from ..spec import FabricSpec
+from .base import Scene
 
 __all__ = [
     "EXPERIMENT",
     "PAPER_MODEL_THICKNESS_1KPA_MM",
-    "applies",
-    "collect",
-    "deck_values",
-    "execute",
-    "figures",
+    "SCENE",
     "plate_speed",
-    "requires",
 ]
 
 #: Experiment of the paper (rheometer, one layer, 10 um/s): (thickness mm, pressure kPa).
@@ -74,9 +69,10 @@ def _final_gap(spec: FabricSpec, model: Model) -> float:
     return model.fibre_volume / (model.cell_area * spec.compaction.final_fvf)
 
 
-def deck_values(spec: FabricSpec, model: Model) -> dict:
+def deck_values(run: Prepared) -> dict:
     """Typed values of templates/compaction.lmp.j2 (LAMMPS micro units)."""
-    dt = time_step(spec, model).dt
+    spec, model = run.spec, run.model
+    dt = run.time_step.dt
     speed = plate_speed(spec, model)
     # The manufactured cell is no thicker than the generated stitch faces plus a bead: this
     # bounds the travel; fix halt ends the run at the final gap.
@@ -85,7 +81,7 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
     record = max(1, round(spec.compaction.record_every_um / speed / dt))
     return {
         "restart_file": "manufactured.restart" if spec.stitch is not None else None,
-        "contact": contact_law(spec, model),
+        "contact": run.contact,
         "clearance": 1e-3 * float(model.diameter.min()),
         "plate_speed": speed,
         "steps": math.ceil(travel / speed / dt),
@@ -101,14 +97,6 @@ def _max_pressure(spec: FabricSpec) -> float | None:
     return None if limit is None else units.to_micro(limit, "kPa")
 
 
-def execute(
-    engine: Engine, spec: FabricSpec, model: Model, progress, checkpoint: Checkpoints | None = None
-) -> dict:
-    """Run decks/in.compaction.lmp (on every rank); no attributes of its own."""
-    engine.run_deck("decks/in.compaction.lmp", chunk=5000, on_chunk=progress, checkpoint=checkpoint)
-    return {}
-
-
 def _stopped_by(spec: FabricSpec, pressure: np.ndarray) -> str:
     """Which end stopped the plates: ``"max_pressure_kPa"`` if the last record is past it."""
     limit = _max_pressure(spec)
@@ -116,8 +104,9 @@ def _stopped_by(spec: FabricSpec, pressure: np.ndarray) -> str:
     return "max_pressure_kPa" if stopped else "final_fvf"
 
 
-def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict]:
+def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
     """(attrs, datasets) of /compaction from the scene's files in ``directory``."""
+    spec, model = run.spec, run.model
     history = read_ave_time(directory / "compaction.history.txt")
     final_gap = _final_gap(spec, model)
     keep = history["v_gap"] >= final_gap * (1 - 1e-9)
@@ -192,3 +181,16 @@ def figures(results: dict, directory: Path) -> list[Path]:
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return [path]
+
+
+SCENE = Scene(
+    name="compaction",
+    template="compaction.lmp.j2",
+    applies=applies,
+    requires=requires,
+    deck_values=deck_values,
+    periods=lambda values: (values["record_every"],),
+    collect=collect,
+    figures=figures,
+    chunk=5000,
+)

@@ -31,23 +31,15 @@ from .. import units
 from ..analysis.geometry import max_overlap, min_xy_distance
 from ..analysis.plots import plot_histories
 from ..analysis.render3d import state_views
-from ..engine import Checkpoints, Engine, EngineError
+from ..engine import Engine, EngineError
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, read_final
 from ..model import Model
-from ..numerics import contact_law, simulated_model, time_step
+from ..numerics import Prepared
 from ..spec import FabricSpec
+from .base import Scene
 
-__all__ = [
-    "ManufactureError",
-    "applies",
-    "collect",
-    "deck_values",
-    "execute",
-    "figures",
-    "needle_axes",
-    "requires",
-]
+__all__ = ["SCENE", "ManufactureError", "needle_axes"]
 
 #: Time-averaging window of the convergence check, in controller invocations.
 WINDOW = 20
@@ -121,12 +113,12 @@ def needle_axes(model: Model) -> np.ndarray:
     return images[inside]
 
 
-def deck_values(spec: FabricSpec, model: Model) -> dict:
+def deck_values(run: Prepared) -> dict:
     """Typed values of templates/manufacture.lmp.j2 (LAMMPS micro units)."""
+    spec, model = run.spec, run.model
     settings = spec.manufacture
-    step = time_step(spec, model)
-    dt = step.dt
-    law = contact_law(spec, model)
+    dt = run.time_step.dt
+    law = run.contact
     fibre = model.role_mask("fibre")
     fibre_types = [i + 1 for i, t in enumerate(model.atom_types) if t.role == "fibre"]
     stitch_type = next(i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch")
@@ -139,7 +131,7 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
     stitch_bonds = [(i + 1, t.r0) for i, t in enumerate(model.bond_types) if t.role == "stitch"]
     bond_r0 = np.array([t.r0 for t in model.bond_types])[model.bond_type]
     stitch_role = np.array([t.role == "stitch" for t in model.bond_types])[model.bond_type]
-    mass = simulated_model(spec, model).mass
+    mass = run.simulated.mass
     type_mass = [float(mass[model.type_id == t - 1].mean()) for t in (*fibre_types, stitch_type)]
     return {
         "fibre_types": fibre_types,
@@ -174,8 +166,15 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
     }
 
 
-def _check_channels_and_overlap(engine: Engine, spec: FabricSpec, model: Model) -> dict:
+def _periods(values: dict) -> tuple[int, ...]:
+    """Recording and control periods (steps) of the manufacture deck."""
+    every = values["control_every"]
+    return (values["history_every"], every, every * values["window"])
+
+
+def _check_channels_and_overlap(engine: Engine, run: Prepared) -> dict:
     """Measure the channels after the needle step and the stitch-fibre overlap at insertion."""
+    spec, model = run.spec, run.model
     positions = engine.gather("x", 3)
     fibre = model.role_mask("fibre")
     stitch = model.role_mask("stitch")
@@ -209,26 +208,14 @@ def _check_channels_and_overlap(engine: Engine, spec: FabricSpec, model: Model) 
 CHECKS_FILE = "manufacture.checks.json"
 
 
-def execute(
-    engine: Engine, spec: FabricSpec, model: Model, progress, checkpoint: Checkpoints | None = None
-) -> dict:
-    """Run decks/in.manufacture.lmp (on every rank), checking the channels and the stitch
-    overlap at insertion; returns the checks' measures (also kept in :data:`CHECKS_FILE`)."""
-    checks: dict = {}
-
-    def on_stage(stage: str) -> None:
-        if stage == "insertion":
-            checks.update(_check_channels_and_overlap(engine, spec, model))
-            if engine.rank == 0:
-                Path(CHECKS_FILE).write_text(json.dumps(checks))
-
-    engine.run_deck(
-        "decks/in.manufacture.lmp",
-        chunk=2000,
-        on_stage=on_stage,
-        on_chunk=progress,
-        checkpoint=checkpoint,
-    )
+def _stage_checks(engine: Engine, run: Prepared, stage: str) -> dict:
+    """At ``insertion``: the channel and overlap checks; their measures are also kept in
+    :data:`CHECKS_FILE` (rank 0) for :func:`collect`."""
+    if stage != "insertion":
+        return {}
+    checks = _check_channels_and_overlap(engine, run)
+    if engine.rank == 0:
+        Path(CHECKS_FILE).write_text(json.dumps(checks))
     return checks
 
 
@@ -239,8 +226,9 @@ def _final_rate(time: np.ndarray, value: np.ndarray) -> float:
     return float(np.polyfit(time[last], value[last], 1)[0]) if len(time) > 1 else math.nan
 
 
-def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict]:
+def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
     """(attrs, datasets) of /manufacture from the scene's files in ``directory``."""
+    spec = run.spec
     history = read_ave_time(directory / "manufacture.history.txt")
     work = history["v_work"]
     final = read_final(directory / "manufacture.final.txt")
@@ -304,3 +292,17 @@ def figures(results: dict, directory: Path) -> list[Path]:
     fig.savefig(written[-1], dpi=110)
     plt.close(fig)
     return written
+
+
+SCENE = Scene(
+    name="manufacture",
+    template="manufacture.lmp.j2",
+    applies=applies,
+    requires=requires,
+    deck_values=deck_values,
+    periods=_periods,
+    collect=collect,
+    figures=figures,
+    chunk=2000,
+    stage_checks=_stage_checks,
+)

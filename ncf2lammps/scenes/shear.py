@@ -24,23 +24,18 @@ from .. import units
 from ..analysis.energy import energy_balance_residual
 from ..analysis.render3d import state_views
 from ..analysis.shear import ShearCurve
-from ..engine import Checkpoints, Engine
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
-from ..numerics import inertial_strain_rate, simulated_model, time_step
+from ..numerics import Prepared, inertial_strain_rate
 from ..spec import FabricSpec
+from .base import Scene
 
 __all__ = [
     "EXPERIMENT_FORCE_45DEG_N_PER_M",
     "PAPER_MODEL_FORCE_45DEG_N_PER_M",
     "REFERENCE_PRESSURE_KPA",
-    "applies",
-    "collect",
-    "deck_values",
-    "execute",
-    "figures",
-    "requires",
+    "SCENE",
     "shear_rate",
 ]
 
@@ -115,9 +110,9 @@ def _pretension_bonds(spec: FabricSpec, model: Model) -> list[tuple[int, float, 
     return out
 
 
-def _stops(spec: FabricSpec, model: Model) -> tuple[list[tuple[str, int]], int]:
-    """Segments (label, steps) ending at each snapshot angle, and the steps per record."""
-    dt = time_step(spec, model).dt
+def _stops(spec: FabricSpec, model: Model, dt: float) -> tuple[list[tuple[str, int]], int]:
+    """Segments (label, steps) ending at each snapshot angle, and the steps per record, at
+    time step ``dt`` (us)."""
     rate = shear_rate(spec, model)
     final = spec.shear.final_angle_deg
     updates = max(1, round(math.radians(1.0 / RECORDS_PER_DEG) / (rate * dt * DEFORM_EVERY)))
@@ -129,12 +124,13 @@ def _stops(spec: FabricSpec, model: Model) -> tuple[list[tuple[str, int]], int]:
     return [(label, int(n)) for label, n in zip(labels, steps, strict=True) if n > 0], every
 
 
-def deck_values(spec: FabricSpec, model: Model) -> dict:
+def deck_values(run: Prepared) -> dict:
     """Typed values of templates/shear.lmp.j2 (LAMMPS micro units)."""
-    segments, every = _stops(spec, model)
+    spec, model = run.spec, run.model
+    segments, every = _stops(spec, model, run.time_step.dt)
     return {
         "restart_file": "manufactured.restart" if spec.stitch is not None else None,
-        "pretension_bonds": _pretension_bonds(spec, simulated_model(spec, model)),
+        "pretension_bonds": _pretension_bonds(spec, run.simulated),
         "rate": shear_rate(spec, model),
         "segments": segments,
         "history_every": every,
@@ -142,16 +138,9 @@ def deck_values(spec: FabricSpec, model: Model) -> dict:
     }
 
 
-def execute(
-    engine: Engine, spec: FabricSpec, model: Model, progress, checkpoint: Checkpoints | None = None
-) -> dict:
-    """Run decks/in.shear.lmp (on every rank); no attributes of its own."""
-    engine.run_deck("decks/in.shear.lmp", chunk=2000, on_chunk=progress, checkpoint=checkpoint)
-    return {}
-
-
-def collect(spec: FabricSpec, model: Model, directory: Path) -> tuple[dict, dict]:
+def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
     """(attrs, datasets) of /shear from the scene's files in ``directory``."""
+    spec, model = run.spec, run.model
     stress = read_ave_time(directory / "shear.history.txt")
     box = read_ave_time(directory / "shear.box.txt")
     curve = ShearCurve(
@@ -219,3 +208,16 @@ def figures(results: dict, directory: Path) -> list[Path]:
         fig.savefig(written[-1], dpi=110)
         plt.close(fig)
     return written
+
+
+SCENE = Scene(
+    name="shear",
+    template="shear.lmp.j2",
+    applies=applies,
+    requires=requires,
+    deck_values=deck_values,
+    periods=lambda values: (values["history_every"],),
+    collect=collect,
+    figures=figures,
+    chunk=2000,
+)

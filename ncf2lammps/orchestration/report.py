@@ -16,10 +16,9 @@ from ..analysis.trajectory import local_thickness
 from ..io.lammpslog import read_loop_times
 from ..io.results import mark_complete, read_results, write_root, write_scene
 from ..io.spectoml import dumps_spec
-from ..model import build_model
-from ..numerics import time_step
+from ..numerics import prepare
+from ..scenes import SCENES, applicable_scenes
 from ..spec import load_spec
-from .build import SCENES, applicable_scenes, scene_module
 
 __all__ = ["collect_outputs", "write_report"]
 
@@ -43,9 +42,8 @@ def collect_outputs(directory: str | os.PathLike) -> Path:
     ``lmp``), from its spec.resolved.toml, logs and scene files; ``complete`` only if every
     scene of the spec finished (left its ``<scene>.final.txt``)."""
     directory = Path(directory)
-    spec = load_spec(directory / "spec.resolved.toml")
-    model = build_model(spec)
-    step = time_step(spec, model)
+    run = prepare(load_spec(directory / "spec.resolved.toml"))
+    spec, model, step = run.spec, run.model, run.time_step
     scenes = [s for s in applicable_scenes(spec) if (directory / f"{s}.final.txt").is_file()]
     logs = [directory / f"log.{s}.lammps" for s in scenes]
     results = directory / "results.h5"
@@ -69,7 +67,7 @@ def collect_outputs(directory: str | os.PathLike) -> Path:
         },
     )
     for scene, log in zip(scenes, logs, strict=True):
-        attrs, datasets = scene_module(scene).collect(spec, model, directory)
+        attrs, datasets = SCENES[scene].collect(run, directory)
         attrs["wall_s"] = read_loop_times(log)[0]
         write_scene(results, scene, attrs, datasets)
     if scenes == list(applicable_scenes(spec)):
@@ -92,7 +90,7 @@ def _trajectories(directory: Path) -> list[Path]:
     dumps = [(s, d) for s, d in dumps if d.is_file() and d.stat().st_size > 0]
     if not dumps:
         return []
-    model = build_model(load_spec(directory / "spec.resolved.toml"))
+    model = prepare(load_spec(directory / "spec.resolved.toml")).model
     written = []
     for scene, dump in dumps:
         local = local_thickness(dump, model).results
@@ -171,7 +169,7 @@ def write_report(directory: str | os.PathLike) -> list[Path]:
     results = read_results(directory / "results.h5")
     for scene in SCENES:
         if scene in results:
-            written += scene_module(scene).figures(results, directory)
+            written += SCENES[scene].figures(results, directory)
     root = results["attrs"]
     lines = [
         "# ncf2lammps run summary",

@@ -1,11 +1,11 @@
 """HPC bundle: a run folder that plain ``mpirun -np N lmp -in in.run_all.lmp`` runs (no Python).
 
-The bundle is :func:`~ncf2lammps.scenes.build.build`'s folder (model.data, spec.resolved.toml,
+The bundle is :func:`~ncf2lammps.orchestration.build.build`'s folder (model.data, spec.resolved.toml,
 decks/in.<scene>.lmp rendered from the same templates as a Python-driven run, here writing
 their own restart files) plus ``in.run_all.lmp`` (the scenes chained with ``include``; a
 finished scene is skipped when the job runs again), ``job.slurm`` and ``README.md``. Its outputs
 are the files a Python-driven run collects, so ``ncf2lammps report DIR`` reads them back
-(:func:`~ncf2lammps.scenes.report.write_report`).
+(:func:`~ncf2lammps.orchestration.report.write_report`).
 """
 
 from __future__ import annotations
@@ -18,8 +18,9 @@ from pathlib import Path
 from .. import __version__
 from ..io.deck import render
 from ..model import Model
+from ..scenes import applicable_scenes
 from ..spec import FabricSpec, SpecError
-from .build import applicable_scenes, build, check_ranks
+from .build import build, check_ranks
 
 __all__ = ["export"]
 

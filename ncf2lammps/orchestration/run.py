@@ -1,18 +1,20 @@
 """Run scenes in order and record their results in results.h5.
 
-Stages of :func:`run`:
-1. build the folder (model.data, spec.resolved.toml, decks) atomically;
-2. create results.h5 with the root attributes (``complete = False``);
-3. :func:`run_scenes`: for each scene asked for and the scenes it requires (compaction and shear
-   of a stitched fabric start from manufacture), in :data:`~ncf2lammps.scenes.build.SCENES`
-   order: run the scene's deck through the Python driver (chunked, with progress, a journal and
-   checkpoints every ``output.checkpoint_every_steps``), in this process on one rank or under
-   ``mpiexec -n N`` with the driver on every rank (:mod:`~ncf2lammps.scenes.worker`); then
-   collect the scene's files into its group;
-4. set ``complete = True`` on the file; write figures/ and summary.md.
+Stages of :func:`run`::
 
-``resume=True`` skips stage 1-2 and the scenes whose group is complete, and continues the
-first unfinished scene from its last checkpoint (docs/hpc.md).
+    built = build(spec, folder)            # model.data, spec.resolved.toml, decks (rendered once)
+    results.h5 root attributes             # complete = False
+    for scene in scenes asked + the scenes they start from, in registry order:
+        child process in the folder:       # python -m ncf2lammps.orchestration.worker,
+            execute(scene)                 # under mpiexec -n N when --np N > 1;
+                                           # chunks, progress, journal, checkpoints
+        scene.collect(run, folder)         # -> its results.h5 group (complete = True)
+    complete = True; figures/, summary.md
+
+Each scene runs in a process of its own whose working directory is the run folder (the decks'
+relative paths resolve there); this process never changes its own. ``resume=True`` skips the
+build and the scenes whose group is complete, and continues the first unfinished scene from its
+last checkpoint (docs/hpc.md).
 """
 
 from __future__ import annotations
@@ -28,21 +30,13 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 from .. import __version__
-from ..engine import Checkpoints, Engine, EngineError, UnstableRunError, lammps_version
-from ..io.deck import render
+from ..engine import Checkpoints, EngineError, UnstableRunError, lammps_version
 from ..io.results import mark_complete, read_results, write_root, write_scene
 from ..io.spectoml import dumps_spec, write_spec
-from ..model import Model, build_model
+from ..numerics import Prepared, prepare
+from ..scenes import SCENES, Deck, applicable_scenes, render_deck
 from ..spec import FabricSpec, SpecError
-from .build import (
-    applicable_scenes,
-    build,
-    check_ranks,
-    checkpoint_interval,
-    deck_context,
-    scene_module,
-)
-from .progress import Progress
+from .build import build, check_ranks
 from .report import write_report
 
 __all__ = ["checkpoints", "mpiexec", "run", "run_scenes", "scenes_to_run"]
@@ -57,68 +51,54 @@ def scenes_to_run(spec: FabricSpec, scenes: Sequence[str] | None) -> list[str]:
         )
     asked = set(available if scenes is None else scenes)
     for scene in list(asked):
-        asked |= set(scene_module(scene).requires(spec))
+        asked |= set(SCENES[scene].requires(spec))
     return [s for s in available if s in asked]
 
 
-def checkpoints(spec: FabricSpec, directory: Path, scene: str, resume: bool) -> Checkpoints:
-    """Checkpointing of ``scene`` in ``directory``; resumes only if a checkpoint exists."""
-    deck = (directory / "decks" / f"in.{scene}.lmp").read_text()
-    found = resume and Checkpoints(scene).state(directory) is not None
-    return Checkpoints(scene, checkpoint_interval(spec, deck), found)
+def checkpoints(directory: Path, deck: Deck, every: int, resume: bool) -> Checkpoints:
+    """Checkpointing of ``deck``'s scene in ``directory`` every ``every`` steps (rounded to the
+    deck's period); resumes only if a checkpoint exists."""
+    found = resume and Checkpoints(deck.name).state(directory) is not None
+    return Checkpoints(deck.name, deck.checkpoint_interval(every), found)
 
 
 def run_scenes(
-    spec: FabricSpec,
+    spec: FabricSpec | Prepared,
     directory: str | os.PathLike,
     scenes: Sequence[str],
     ranks: int = 1,
     resume: bool = False,
+    decks: dict[str, Deck] | None = None,
 ) -> Path:
-    """Run ``scenes`` in a built folder, re-rendering their decks from ``spec``; returns results.h5.
+    """Run ``scenes`` in a built folder; returns results.h5.
 
     The spec must describe the same model as the folder's (same beads and bonds); scene
     settings (rates, targets) may differ, e.g. to run a test again at another rate on the same
-    manufactured state. ``ranks`` > 1 runs LAMMPS under ``mpiexec``; ``resume`` continues each
-    scene from its last checkpoint, if it has one (its deck is then kept as it was).
+    manufactured state: each deck is rendered from ``spec`` (or taken from ``decks``, as
+    :func:`build` rendered them). ``ranks`` > 1 runs LAMMPS under ``mpiexec``; ``resume``
+    continues each scene from its last checkpoint, if it has one (its deck is then kept as it
+    was).
     """
     check_ranks(ranks)
+    run = spec if isinstance(spec, Prepared) else prepare(spec)
     directory = Path(directory).resolve()
-    model = build_model(spec)
-    if (folder_atoms := _count_atoms(directory)) != model.n_atoms:
+    if (folder_atoms := _count_atoms(directory)) != run.model.n_atoms:
         raise SpecError(
-            "<spec>", "...", f"describes {model.n_atoms} beads, the folder {folder_atoms}"
+            "<spec>", "...", f"describes {run.model.n_atoms} beads, the folder {folder_atoms}"
         )
     results = directory / "results.h5"
     for scene in scenes:
-        deck = directory / "decks" / f"in.{scene}.lmp"
-        if not (resume and Checkpoints(scene).state(directory)):
-            values = deck_context(spec, model, scene)
-            values.update(scene_module(scene).deck_values(spec, model))
-            deck.write_text(render(f"{scene}.lmp.j2", **values))
-        checkpoint = checkpoints(spec, directory, scene, resume)
+        deck = (decks or {}).get(scene) or render_deck(run, scene)
+        checkpoint = checkpoints(directory, deck, run.spec.output.checkpoint_every_steps, resume)
+        if not checkpoint.resume:
+            (directory / "decks" / f"in.{scene}.lmp").write_text(deck.text)
         start = time.perf_counter()
-        if ranks == 1:
-            attrs = _execute(directory, spec, model, scene, checkpoint)
-        else:
-            attrs = _execute_mpi(directory, spec, scene, checkpoint, ranks)
+        live = _execute(directory, run.spec, scene, checkpoint, ranks)
         wall = time.perf_counter() - start
-        attrs, datasets = _collect(directory, spec, model, scene, attrs)
-        attrs["wall_s"] = wall
-        attrs["resumed"] = checkpoint.resume
+        attrs, datasets = SCENES[scene].collect(run, directory)
+        attrs = {**attrs, **live, "wall_s": wall, "resumed": checkpoint.resume}
         write_scene(results, scene, attrs, datasets)
     return results
-
-
-def _execute(directory: Path, spec, model: Model, scene: str, checkpoint: Checkpoints) -> dict:
-    """Run one scene's deck in this process; returns its live attributes."""
-    with Engine(directory, log=f"log.{scene}.lammps") as engine, Progress(scene) as bar:
-        return scene_module(scene).execute(engine, spec, model, bar.update, checkpoint)
-
-
-def _collect(directory: Path, spec, model: Model, scene: str, live: dict) -> tuple[dict, dict]:
-    attrs, datasets = scene_module(scene).collect(spec, model, directory)
-    return {**attrs, **live}, datasets
 
 
 def mpiexec() -> str:
@@ -130,19 +110,23 @@ def mpiexec() -> str:
     return found
 
 
-def _execute_mpi(directory: Path, spec, scene: str, checkpoint: Checkpoints, ranks: int) -> dict:
-    """Run one scene's deck under ``mpiexec -n ranks`` with the Python driver on every rank
-    (:mod:`~ncf2lammps.scenes.worker`); returns its live attributes or raises its error."""
+def _execute(directory: Path, spec: FabricSpec, scene: str, checkpoint: Checkpoints, ranks: int):
+    """Run one scene's deck in a child process working in ``directory`` (under ``mpiexec -n
+    ranks`` with the Python driver on every rank when ``ranks`` > 1,
+    :mod:`~ncf2lammps.orchestration.worker`); returns its live attributes or raises its error."""
     write_spec(directory / "decks" / f"spec.{scene}.toml", spec)
     report = directory / f"{scene}.worker.json"
     report.unlink(missing_ok=True)
-    command = [mpiexec(), "-n", str(ranks), sys.executable, "-m", f"{__package__}.worker"]
-    command += [str(directory), scene, str(checkpoint.every), str(int(checkpoint.resume))]
-    done = subprocess.run(command, stdin=subprocess.DEVNULL, check=False)
+    command = [sys.executable, "-m", f"{__package__}.worker"]
+    if ranks > 1:
+        command = [mpiexec(), "-n", str(ranks), *command]
+    command += [scene, str(checkpoint.every), str(int(checkpoint.resume))]
+    done = subprocess.run(command, cwd=directory, stdin=subprocess.DEVNULL, check=False)
     outcome = json.loads(report.read_text()) if report.is_file() else None
     if outcome is None:
         raise EngineError(
-            f"{scene}: mpiexec exited with code {done.returncode} (see log.{scene}.lammps)"
+            f"{scene}: the scene's process exited with code {done.returncode} without a report"
+            f" (see {directory / f'log.{scene}.lammps'})"
         )
     if "error" in outcome:
         kind = UnstableRunError if outcome["kind"] == "UnstableRunError" else EngineError
@@ -172,6 +156,8 @@ def run(
     ``resume`` continues a killed run in ``directory`` instead. Returns results.h5."""
     check_ranks(ranks)
     wanted = scenes_to_run(spec, scenes)
+    prepared: FabricSpec | Prepared = spec
+    decks = None
     if resume:
         directory = Path(directory)
         results = directory / "results.h5"
@@ -179,6 +165,7 @@ def run(
         wanted = [s for s in wanted if s not in done]
     else:
         built = build(spec, directory, force=force)
+        prepared = built.run
         directory = built.directory
         results = directory / "results.h5"
         write_root(
@@ -197,7 +184,8 @@ def run(
                 "dt_margin": built.time_step.margin,
             },
         )
-    run_scenes(spec, directory, wanted, ranks=ranks, resume=resume)
+        decks = built.decks
+    run_scenes(prepared, directory, wanted, ranks=ranks, resume=resume, decks=decks)
     mark_complete(results)
     write_report(directory)
     return results

@@ -1,0 +1,44 @@
+"""One scene's deck in a process of its own: ``python -m ncf2lammps.orchestration.worker SCENE
+EVERY RESUME``, started in the run folder (under ``mpiexec -n N`` for N ranks).
+
+Every rank runs the same Python driver (:func:`~ncf2lammps.scenes.execute`) on one LAMMPS
+instance spread over all ranks; rank 0 shows the progress and writes ``<SCENE>.worker.json``
+with the scene's live attributes or its error, which
+:func:`~ncf2lammps.orchestration.run.run_scenes` reads back. The spec is
+``decks/spec.<SCENE>.toml``; EVERY is the checkpoint interval (steps), RESUME 0 or 1.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from ..engine import Checkpoints, Engine, EngineError
+from ..numerics import prepare
+from ..scenes import SCENES, execute
+from ..spec import load_spec
+from .progress import Progress
+
+
+def main(argv: list[str]) -> int:
+    """Run the scene in the working directory; returns the exit code (1 if the run failed)."""
+    scene, every, resume = SCENES[argv[0]], int(argv[1]), argv[2] == "1"
+    run = prepare(load_spec(Path("decks") / f"spec.{scene.name}.toml"))
+    checkpoint = Checkpoints(scene.name, every, resume)
+    outcome: dict = {}
+    rank = 0
+    try:
+        with Engine(log=f"log.{scene.name}.lammps") as engine:
+            rank = engine.rank
+            with Progress(scene.name, enabled=rank == 0) as bar:
+                outcome["attrs"] = execute(engine, scene, run, bar.update, checkpoint)
+    except EngineError as err:
+        outcome = {"error": str(err), "kind": type(err).__name__}
+    if rank == 0:
+        Path(f"{scene.name}.worker.json").write_text(json.dumps(outcome))
+    return 1 if "error" in outcome else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
