@@ -1,8 +1,10 @@
-"""Stiff and extreme cases (issue 6): each runs stably to the end or stops with a guard's
-diagnosis; never a NaN in the results, never a silent blow-up."""
+"""Stiff and extreme cases: each either runs stably to the end with finite results or stops
+with a guard's one-line diagnosis, and each asserts which of the two it does (measured on one
+rank, which is deterministic); never a NaN in the results, never a silent blow-up."""
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 
@@ -21,7 +23,9 @@ FAST = {"inertial_number": 0.5, "final_fvf": 0.5}
 
 
 def outcome(spec, folder, scene="compaction"):
-    """'finished' with finite results, or 'guard' with a diagnosis and an incomplete file."""
+    """('finished', results) with finite results, or (guard name, diagnosis) with a one-line
+    diagnosis and an incomplete results.h5 (guard names: speed, bond, overlap, kinetic from the
+    deck's ``fix halt``; lost-atoms and NaN from the driver)."""
     try:
         results = read_results(run(spec, folder, scenes=[scene]))
     except UnstableRunError as err:
@@ -29,7 +33,8 @@ def outcome(spec, folder, scene="compaction"):
         assert "\n" not in message and "step" in message
         with h5py.File(folder / "results.h5") as fh:
             assert not fh.attrs["complete"]
-        return "guard", message
+        named = re.match(r"guard '(\w+)'|(\S+) guard", message)
+        return next(g for g in named.groups() if g), message
     for group in (g for name, g in results.items() if name != "attrs"):
         for name, values in group.items():
             if name != "attrs":
@@ -38,25 +43,34 @@ def outcome(spec, folder, scene="compaction"):
 
 
 @pytest.mark.parametrize(
-    "tables",
+    ("tables", "expected"),
     [
-        {"contact": {"friction": 0.0}},
-        {"contact": {"friction": 1.0}},
-        {"ply": [{"angle_deg": 0.0, "E_GPa": 2400.0}, {"angle_deg": 90.0, "E_GPa": 2.4}]},
-        {"numerics": {"dt_fraction": 1.2, "allow_unstable_dt": True}},
-        {
-            "mat": {"initial_fvf": 0.6},
-            "cell": {"length_mm": 1.0, "width_mm": 1.0},
-            "discretisation": {"chain_diameter_um": 65.0},
-            "compaction": {**FAST, "final_fvf": 0.75},
-        },
-        {"compaction": {**FAST, "final_fvf": 0.8}},
-        {"discretisation": {"chain_diameter_um": 100.0, "bead_spacing_ratio": 1.0}},
-        {"discretisation": {"chain_diameter_um": 200.0, "bead_spacing_ratio": 0.25}},
-        {
-            "cell": {"length_mm": 0.4, "width_mm": 0.4},
-            "discretisation": {"chain_diameter_um": 190.0},
-        },
+        ({"contact": {"friction": 0.0}}, "finished"),
+        ({"contact": {"friction": 1.0}}, "finished"),
+        (
+            {"ply": [{"angle_deg": 0.0, "E_GPa": 2400.0}, {"angle_deg": 90.0, "E_GPa": 2.4}]},
+            "finished",
+        ),
+        ({"numerics": {"dt_fraction": 1.2, "allow_unstable_dt": True}}, "lost-atoms"),
+        (
+            {
+                "mat": {"initial_fvf": 0.6},
+                "cell": {"length_mm": 1.0, "width_mm": 1.0},
+                "discretisation": {"chain_diameter_um": 65.0},
+                "compaction": {**FAST, "final_fvf": 0.75},
+            },
+            "finished",
+        ),
+        ({"compaction": {**FAST, "final_fvf": 0.8}}, "finished"),
+        ({"discretisation": {"chain_diameter_um": 100.0, "bead_spacing_ratio": 1.0}}, "finished"),
+        ({"discretisation": {"chain_diameter_um": 200.0, "bead_spacing_ratio": 0.25}}, "finished"),
+        (
+            {
+                "cell": {"length_mm": 0.4, "width_mm": 0.4},
+                "discretisation": {"chain_diameter_um": 190.0},
+            },
+            "finished",
+        ),
     ],
     ids=[
         "mu0",
@@ -70,18 +84,17 @@ def outcome(spec, folder, scene="compaction"):
         "one-chain-per-ply",
     ],
 )
-def test_extreme_cases_finish_or_stop_with_diagnosis(tables, tmp_path):
+def test_extreme_cases_finish_or_stop_with_diagnosis(tables, expected, tmp_path):
     spec = case_spec("mat-only").replace(**{"compaction": FAST, **tables})
-    kind, _ = outcome(spec, tmp_path / "run")
-    assert kind in ("finished", "guard")
+    kind, detail = outcome(spec, tmp_path / "run")
+    assert kind == expected, detail
 
 
 def test_shear_to_60_degrees_finishes_or_stops_with_diagnosis(tmp_path):
     spec = case_spec("mat-only").replace(shear={"final_angle_deg": 60.0, "inertial_number": 0.4})
     kind, result = outcome(spec, tmp_path / "run", scene="shear")
-    assert kind in ("finished", "guard")
-    if kind == "finished":
-        assert result["shear"]["angle_deg"][-1] == pytest.approx(60.0, abs=0.5)
+    assert kind == "finished", result
+    assert result["shear"]["angle_deg"][-1] == pytest.approx(60.0, abs=0.5)
 
 
 def test_stitch_modulus_x100_manufacture_finishes_or_stops_with_diagnosis(tmp_path):
@@ -94,9 +107,7 @@ def test_stitch_modulus_x100_manufacture_finishes_or_stops_with_diagnosis(tmp_pa
         manufacture={"pretension_strain_rate_per_us": 0.02, "damping_time_us": 10.0},
     )
     kind, result = outcome(spec, tmp_path / "run", scene="manufacture")
-    assert kind in ("finished", "guard")
-    if kind == "finished":
-        assert abs(result["manufacture"]["attrs"]["stitch_tension_error"]) < 0.05
+    assert kind == "lost-atoms", result
 
 
 def test_far_too_large_time_step_trips_a_guard_and_cli_exits_1(tmp_path):
@@ -105,7 +116,7 @@ def test_far_too_large_time_step_trips_a_guard_and_cli_exits_1(tmp_path):
         compaction=FAST, numerics={"dt_fraction": 2.0, "allow_unstable_dt": True}
     )
     path = tmp_path / "spec.toml"
-    path.write_text(dumps_spec(spec).replace("dt_fraction = 2.0", "dt_fraction = 2.0"))
+    path.write_text(dumps_spec(spec))
     out = subprocess.run(
         [
             sys.executable,
@@ -135,7 +146,7 @@ def test_kinetic_energy_jump_trips_the_kinetic_guard(tmp_path):
     that jumped in one step (the shear deck's fix deform once did) looks just like this."""
     spec = case_spec("mat-only").replace(compaction=FAST)
     built = build(spec, tmp_path / "run")
-    deck = built.decks["compaction"]
+    deck = built.directory / "decks" / "in.compaction.lmp"
     speed = 0.01 * float(built.model.diameter.min()) / built.time_step.dt
     lines = deck.read_text().splitlines()
     last_run = max(i for i, line in enumerate(lines) if line.startswith("run "))
