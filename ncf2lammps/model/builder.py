@@ -1,14 +1,28 @@
-"""Build the bead model of a :class:`FabricSpec`: plies of chains and the stitch yarns."""
+"""Build the bead model of a :class:`FabricSpec`: one part per ply, one for the stitch yarns.
+
+Lengths in um, LAMMPS ``micro`` units. Each builder returns a :class:`~.parts.Part` whose
+positions are wrapped into the cell in x and y; :func:`~.parts.join` assembles them.
+"""
 
 from __future__ import annotations
+
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .. import units
-from ..geometry import SEGMENT_KINDS, ply_chains, ply_layout, sample_closed_polyline, stitch_path
-from ..geometry.mat import Waviness, wavy_chains
-from ..spec import FabricSpec, SpecError
+from ..geometry import (
+    SEGMENT_KINDS,
+    BeadChain,
+    ply_chains,
+    ply_layout,
+    sample_closed_polyline,
+    stitch_path,
+)
+from ..geometry.mat import PlyLayout, Waviness, wavy_chains
+from ..spec import FabricSpec, SpecError, StitchSpec
 from .core import AngleType, AtomType, BondType, Box, Model
+from .parts import Part, join
 
 __all__ = ["MAX_BEADS", "build_model"]
 
@@ -19,180 +33,172 @@ MAX_BEADS = 10_000_000
 
 def build_model(spec: FabricSpec) -> Model:
     """Generate the homogeneous mat at the initial Vf and the idealised stitch yarn."""
-    length, width = (units.to_micro(v, "mm") for v in spec.cell_mm)
-    fvf = spec.mat.initial_fvf
-    ratio = spec.discretisation.bead_spacing_ratio
-    d_nominal = spec.discretisation.chain_diameter_um
-    atom_types: list[AtomType] = []
-    bond_types: list[BondType] = []
-    positions, diameter, density, type_id, mol_id, bonds, bond_type = [], [], [], [], [], [], []
-    n_beads = n_chains = 0
+    cell = tuple(units.to_micro(v, "mm") for v in spec.cell_mm)
+    plies: list[Part] = []
     z = 0.0
-    fibre_volume = 0.0
-    fill = spec.discretisation.chain_internal_fvf
-    waviness = _waviness(spec)
-    angle_types: list[AngleType] = []
-    angles, angle_type = [], []
-    for index, ply in enumerate(spec.plies):
-        along_x = ply.angle_deg == 0.0
-        rho = units.to_micro(ply.density_g_cm3, "g_cm3")
-        areal = units.to_micro(ply.areal_weight_g_m2, "g_m2")
-        modulus = units.to_micro(ply.E_GPa, "GPa")
-        chain_length, across = (length, width) if along_x else (width, length)
-        layout = ply_layout(
-            areal,
-            rho,
-            chain_length,
-            across,
-            z,
-            fvf,
-            d_nominal,
-            ratio,
-            f"ply[{index}]",
-            fill=fill,
-            waviness=waviness,
-        )
-        z += areal / (fvf * rho)
-        per_chain = layout.beads_per_chain
-        if waviness is not None:
-            stretch = waviness.length_factor(chain_length)
-            per_chain = round(stretch * chain_length / layout.spacing) + len(
-                waviness.vertices(chain_length)
-            )
-        planned = n_beads + layout.n_chains * per_chain
-        if planned > MAX_BEADS:
-            raise SpecError(
-                "discretisation.chain_diameter_um",
-                d_nominal,
-                f"gives more than {MAX_BEADS:,} beads on this cell ({planned:,} by ply[{index}]);"
-                " raise the chain diameter or shrink the cell",
-            )
-        d, s = layout.diameter, layout.spacing
-        area = fill * np.pi * d**2 / 4.0  # fibre cross-section of one chain
-        name = f"ply{index}_{ply.angle_deg:g}deg"
-        atom_types.append(AtomType(name, "fibre", d, rho, modulus, ply.angle_deg, fill))
-        if waviness is None:
-            beads = ply_chains(layout, along_x, across)
-            bond_types.append(BondType(name, "fibre", modulus * area / (2 * s), s, modulus * area))
-            r0 = length_per_bead = np.full(per_chain, s)
-            chain_type = np.full(per_chain, len(bond_types) - 1)
-            chain_density = np.full(per_chain, rho * area * s / (np.pi * d**3 / 6.0))
-            fibre_length = chain_length
-            rest_angle = np.full(per_chain, 180.0)
-        else:
-            beads, template = wavy_chains(layout, along_x, across, chain_length, waviness, index)
-            per_chain = len(template.positions)
-            r0, length_per_bead = template.bond_length, template.length_per_bead
-            first, inverse = _distinct(r0)
-            chain_type = len(bond_types) + inverse
-            for j, i in enumerate(first):
-                bond = float(r0[i])
-                k = modulus * area / (2 * bond)
-                bond_types.append(BondType(f"{name}_{j}", "fibre", k, bond, modulus * area))
-            chain_density = rho * area * length_per_bead / (np.pi * d**3 / 6.0)
-            fibre_length = float(r0.sum())
-            rest_angle = _rest_angles(template.positions, chain_length)
-        beads = beads.reshape(-1, 3)
-        n = len(beads)
-        local = np.arange(n).reshape(layout.n_chains, per_chain)
-        chain_bonds = np.stack([local, np.roll(local, -1, axis=1)], axis=-1).reshape(-1, 2)
-        positions.append(beads)
-        diameter.append(np.full(n, d))
-        density.append(np.tile(chain_density, layout.n_chains))
-        type_id.append(np.full(n, index))
-        mol_id.append(n_chains + np.repeat(np.arange(layout.n_chains), per_chain))
-        bonds.append(chain_bonds + n_beads)
-        bond_type.append(np.tile(chain_type, layout.n_chains))
-        if spec.discretisation.bending != "none":
-            bending = area * modulus * ply.filament_diameter_um**2 / 16.0  # N_f E pi d_f^4 / 64
-            kinds = _angle_kinds(
-                spec.discretisation.bending, bending, rest_angle, length_per_bead, name
-            )
-            types, per_bead = kinds
-            per_bead = per_bead + len(angle_types)
-            angle_types.extend(types)
-            triples = np.stack([np.roll(local, 1, axis=1), local, np.roll(local, -1, axis=1)])
-            angles.append(triples.reshape(3, -1).T + n_beads)
-            angle_type.append(np.tile(per_bead, layout.n_chains))
-        fibre_volume += area * fibre_length * layout.n_chains
-        n_beads += n
-        n_chains += layout.n_chains
-    mat_thickness = z
-    fibre = np.concatenate(positions)
-    fibre_d = np.concatenate(diameter)
-    fibre_low = float((fibre[:, 2] - fibre_d / 2).min())
-    fibre_high = float((fibre[:, 2] + fibre_d / 2).max())
-    needle_points = np.zeros((0, 2))
-    needle_diameter = 0.0
+    for index in range(len(spec.plies)):
+        plies.append(_ply_part(spec, index, cell, z, sum(len(p.positions) for p in plies)))
+        z += _ply_thickness(spec, index)
+    fibre_low = min(float((p.positions[:, 2] - p.diameter / 2).min()) for p in plies)
+    fibre_high = max(float((p.positions[:, 2] + p.diameter / 2).max()) for p in plies)
     faces = (fibre_low, fibre_high)
+    parts = plies
     if spec.stitch is not None:
-        stitch = _stitch_beads(spec, length, width, fibre_low, fibre_high, float(fibre_d.max()))
-        (
-            s_positions,
-            s_d,
-            s_density,
-            s_bonds,
-            s_r0,
-            s_kind,
-            needle_points,
-            needle_diameter,
-            faces,
-        ) = stitch
-        stitch_type = len(atom_types)
-        s_rho = units.to_micro(spec.stitch.density_g_cm3, "g_cm3")
-        s_modulus = units.to_micro(spec.stitch.E_GPa, "GPa")
-        packing = spec.stitch.packing_fraction
-        atom_types.append(AtomType("stitch", "stitch", s_d, s_rho, s_modulus, None, packing))
-        area = packing * np.pi * s_d**2 / 4.0  # fibre cross-section of the yarn
-        # One bond type per distinct rest length, so that every bond starts exactly at rest.
-        first_stitch_bond = len(bond_types)
-        first, inverse = _distinct(s_r0)
-        for j, i in enumerate(first):
-            r0 = float(s_r0[i])
-            name = f"stitch_{SEGMENT_KINDS[s_kind[i]]}_{j}"
-            bond_types.append(
-                BondType(name, "stitch", s_modulus * area / (2 * r0), r0, s_modulus * area)
-            )
-        n_yarns, per_yarn = s_positions.shape[:2]
-        flat = s_positions.reshape(-1, 3)
-        positions.append(flat)
-        diameter.append(np.full(len(flat), s_d))
-        density.append(np.tile(s_density, n_yarns))
-        type_id.append(np.full(len(flat), stitch_type))
-        mol_id.append(n_chains + np.repeat(np.arange(n_yarns), per_yarn))
-        offsets = (np.arange(n_yarns) * per_yarn)[:, None, None]
-        bonds.append((s_bonds[None, :, :] + offsets).reshape(-1, 2) + n_beads)
-        bond_type.append(np.tile(first_stitch_bond + inverse, n_yarns))
-    all_positions = np.concatenate(positions)
-    all_positions[:, 0] %= length
-    all_positions[:, 1] %= width
-    all_d = np.concatenate(diameter)
-    margin = max(mat_thickness, 4.0 * float(all_d.max()))
+        faces = _stitch_faces(spec.stitch, fibre_low, fibre_high)
+        fibre_d_max = max(p.atom_types[0].diameter for p in plies)
+        parts = [*plies, _stitch_part(spec, cell, faces, fibre_d_max)]
+    margin = max(z, 4.0 * max(t.diameter for p in parts for t in p.atom_types))
     box = Box(
         lo=np.array([0.0, 0.0, faces[0] - margin]),
-        hi=np.array([length, width, faces[1] + margin]),
+        hi=np.array([*cell, faces[1] + margin]),
         tilt=np.zeros(3),
     )
-    return Model(
-        positions=all_positions,
-        diameter=all_d,
-        density=np.concatenate(density),
-        type_id=np.concatenate(type_id),
-        mol_id=np.concatenate(mol_id),
-        bonds=np.concatenate(bonds),
-        bond_type=np.concatenate(bond_type),
-        atom_types=tuple(atom_types),
-        bond_types=tuple(bond_types),
-        box=box,
-        mat_thickness=mat_thickness,
-        fibre_volume=fibre_volume,
-        needle_points=needle_points,
-        needle_diameter=needle_diameter,
-        faces_z=faces,
-        angles=np.concatenate(angles) if angles else np.zeros((0, 3), dtype=np.int64),
-        angle_type=np.concatenate(angle_type) if angle_type else np.zeros(0, dtype=np.int64),
-        angle_types=tuple(angle_types),
-        angle_style=spec.discretisation.bending if angles else "none",
+    bending = spec.discretisation.bending
+    return join(parts, box, mat_thickness=z, faces_z=faces, angle_style=bending)
+
+
+def _wrapped(positions: np.ndarray, cell: tuple[float, float]) -> np.ndarray:
+    """(n, 3) copy of bead centres (any shape (..., 3)) with x, y wrapped into the cell (um)."""
+    out = np.array(positions, dtype=float).reshape(-1, 3)
+    out[:, 0] %= cell[0]
+    out[:, 1] %= cell[1]
+    return out
+
+
+# --- plies ------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class _PlyChains:
+    """A ply's chains and the pattern of n beads every chain repeats.
+
+    Attributes: beads (C, n, 3) bead centres (um); bond_type (n,) index into bond_types of the
+    bond from each bead to the next; length_per_bead (n,) chain length each bead stands for
+    (um); rest_angle (n,) angle at each bead (deg); fibre_length: length of one chain (um).
+    """
+
+    beads: np.ndarray
+    bond_type: np.ndarray
+    bond_types: tuple[BondType, ...]
+    length_per_bead: np.ndarray
+    rest_angle: np.ndarray
+    fibre_length: float
+
+
+def _ply_thickness(spec: FabricSpec, index: int) -> float:
+    """Thickness of ply ``index`` in the homogeneous mat, ``A / (Vf rho)`` (um)."""
+    ply = spec.plies[index]
+    areal = units.to_micro(ply.areal_weight_g_m2, "g_m2")
+    return areal / (spec.mat.initial_fvf * units.to_micro(ply.density_g_cm3, "g_cm3"))
+
+
+def _ply_part(
+    spec: FabricSpec, index: int, cell: tuple[float, float], z_bottom: float, beads_before: int
+) -> Part:
+    """The chains of ply ``index`` from height ``z_bottom`` (um) up, one type for its beads.
+
+    ``beads_before`` (the beads of the plies below) counts towards :data:`MAX_BEADS`.
+    """
+    ply = spec.plies[index]
+    along_x = ply.angle_deg == 0.0
+    rho = units.to_micro(ply.density_g_cm3, "g_cm3")
+    modulus = units.to_micro(ply.E_GPa, "GPa")
+    chain_length, across = cell if along_x else cell[::-1]
+    fill = spec.discretisation.chain_internal_fvf
+    waviness = _waviness(spec)
+    layout = ply_layout(
+        units.to_micro(ply.areal_weight_g_m2, "g_m2"),
+        rho,
+        chain_length,
+        across,
+        z_bottom,
+        spec.mat.initial_fvf,
+        spec.discretisation.chain_diameter_um,
+        spec.discretisation.bead_spacing_ratio,
+        f"ply[{index}]",
+        fill=fill,
+        waviness=waviness,
+    )
+    planned = beads_before + layout.n_chains * _beads_per_chain(layout, chain_length, waviness)
+    _check_bead_count(spec, index, planned)
+    d = layout.diameter
+    area = fill * np.pi * d**2 / 4.0  # fibre cross-section of one chain
+    name = f"ply{index}_{ply.angle_deg:g}deg"
+    if waviness is None:
+        beads = ply_chains(layout, along_x, across)
+        chains = _straight_chains(beads, layout.spacing, chain_length, name, modulus * area)
+    else:
+        beads, template = wavy_chains(layout, along_x, across, chain_length, waviness, index)
+        chains = _wavy_chains(beads, template, chain_length, name, modulus * area)
+    n_chains, per_chain = chains.beads.shape[:2]
+    local = np.arange(n_chains * per_chain).reshape(n_chains, per_chain)
+    part = Part(
+        positions=_wrapped(chains.beads, cell),
+        type_id=np.zeros(n_chains * per_chain, dtype=np.int64),
+        density=np.tile(rho * area * chains.length_per_bead / (np.pi * d**3 / 6.0), n_chains),
+        mol_id=np.repeat(np.arange(n_chains), per_chain),
+        bonds=np.stack([local, np.roll(local, -1, axis=1)], axis=-1).reshape(-1, 2),
+        bond_type=np.tile(chains.bond_type, n_chains),
+        atom_types=(AtomType(name, "fibre", d, rho, modulus, ply.angle_deg, fill),),
+        bond_types=chains.bond_types,
+        fibre_volume=area * chains.fibre_length * n_chains,
+    )
+    if spec.discretisation.bending == "none":
+        return part
+    bending = area * modulus * ply.filament_diameter_um**2 / 16.0  # N_f E pi d_f^4 / 64
+    return _bent(part, spec.discretisation.bending, bending, chains, name)
+
+
+def _beads_per_chain(layout: PlyLayout, chain_length: float, waviness: Waviness | None) -> int:
+    """Beads each chain of the layout will get (um lengths), known before any is placed."""
+    if waviness is None:
+        return layout.beads_per_chain
+    stretch = waviness.length_factor(chain_length)
+    return round(stretch * chain_length / layout.spacing) + len(waviness.vertices(chain_length))
+
+
+def _check_bead_count(spec: FabricSpec, index: int, planned: int) -> None:
+    """Refuse a model of more than :data:`MAX_BEADS` beads (``planned`` up to ply ``index``)."""
+    if planned > MAX_BEADS:
+        raise SpecError(
+            "discretisation.chain_diameter_um",
+            spec.discretisation.chain_diameter_um,
+            f"gives more than {MAX_BEADS:,} beads on this cell ({planned:,} by ply[{index}]);"
+            " raise the chain diameter or shrink the cell",
+        )
+
+
+def _straight_chains(beads, spacing, chain_length, name, axial) -> _PlyChains:
+    """The paper's straight chains, beads (C, n, 3) at ``spacing`` (um): one bond type at rest
+    at the spacing, ``K = EA / (2 s)`` with ``EA = axial`` (nN)."""
+    n = beads.shape[1]
+    bond = BondType(name, "fibre", axial / (2 * spacing), spacing, axial)
+    zeros = np.zeros(n, dtype=np.int64)
+    return _PlyChains(beads, zeros, (bond,), np.full(n, spacing), np.full(n, 180.0), chain_length)
+
+
+def _wavy_chains(beads, template: BeadChain, chain_length, name, axial) -> _PlyChains:
+    """Wavy chains, beads (C, n, 3) each a translate of ``template`` (cell edge ``chain_length``
+    um): one bond type per distinct rest length, ``K = EA / (2 r0)`` with ``EA = axial`` (nN)."""
+    r0 = template.bond_length
+    types, bond_type = _rest_length_types(r0, "fibre", axial, lambda j, i: f"{name}_{j}")
+    rest_angle = _rest_angles(template.positions, chain_length)
+    lengths = template.length_per_bead
+    return _PlyChains(beads, bond_type, types, lengths, rest_angle, float(r0.sum()))
+
+
+def _bent(part: Part, style: str, bending: float, chains: _PlyChains, name: str) -> Part:
+    """``part`` with an angle at every bead of its closed chains (vertex the bead), of
+    ``style`` with bending stiffness ``EI = bending`` (nN um^2)."""
+    n_chains, per_chain = chains.beads.shape[:2]
+    local = np.arange(n_chains * per_chain).reshape(n_chains, per_chain)
+    triples = np.stack([np.roll(local, 1, axis=1), local, np.roll(local, -1, axis=1)])
+    types, per_bead = _angle_kinds(style, bending, chains.rest_angle, chains.length_per_bead, name)
+    return replace(
+        part,
+        angles=triples.reshape(3, -1).T,
+        angle_type=np.tile(per_bead, n_chains),
+        angle_types=tuple(types),
     )
 
 
@@ -208,14 +214,6 @@ def _waviness(spec: FabricSpec) -> Waviness | None:
         phase_spread=mat.waviness_phase_spread_deg / 360.0,
         seed=mat.seed,
     )
-
-
-def _distinct(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Classes of values equal to 1e-6 (rows of a 2-D array): (index of each class's first
-    member, (n,) class of each value), classes in ascending order."""
-    keys = np.rint(np.asarray(values) * 1e6).astype(np.int64)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    return first, inverse.ravel()
 
 
 def _rest_angles(chain: np.ndarray, chain_length: float) -> np.ndarray:
@@ -244,12 +242,52 @@ def _angle_kinds(style, bending, rest_angle, spacing, name):
     return types, inverse
 
 
-def _stitch_beads(spec, length, width, fibre_low, fibre_high, fibre_d_max):
-    """Beads of the stitch yarns: (W, n, 3) positions, diameter, (n,) densities, bonds, ..."""
-    stitch = spec.stitch
+# --- type tables ------------------------------------------------------------------------------
+
+
+def _distinct(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Classes of values equal to 1e-6 (rows of a 2-D array): (index of each class's first
+    member, (n,) class of each value), classes in ascending order."""
+    keys = np.rint(np.asarray(values) * 1e6).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    return first, inverse.ravel()
+
+
+def _rest_length_types(r0: np.ndarray, role: str, axial: float, label):
+    """One bond type per distinct rest length, so that every bond starts exactly at rest.
+
+    ``r0``: (m,) rest lengths (um); ``K = EA / (2 r0)`` with ``EA = axial`` (nN); ``label(j, i)``
+    names class ``j`` whose first bond is ``i``. Returns (types, (m,) type index of each bond).
+    """
+    first, inverse = _distinct(r0)
+    types = tuple(
+        BondType(label(j, i), role, axial / (2 * float(r0[i])), float(r0[i]), axial)
+        for j, i in enumerate(first)
+    )
+    return types, inverse
+
+
+# --- stitch -----------------------------------------------------------------------------------
+
+
+def _stitch_diameter(stitch: StitchSpec) -> float:
+    """Yarn diameter (um): the spec's, else ``sqrt(4 T / (pi rho phi))`` from its dtex."""
     rho = units.to_micro(stitch.density_g_cm3, "g_cm3") * stitch.packing_fraction
     linear = units.to_micro(stitch.linear_density_dtex, "dtex")
-    d = stitch.diameter_um or float(np.sqrt(4.0 * linear / (np.pi * rho)))
+    return stitch.diameter_um or float(np.sqrt(4.0 * linear / (np.pi * rho)))
+
+
+def _stitch_faces(stitch: StitchSpec, fibre_low: float, fibre_high: float) -> tuple[float, float]:
+    """Heights of the underlap and loop axes (um): one yarn radius and a 1 % clearance beyond
+    the fibre extent ``fibre_low``..``fibre_high`` (um)."""
+    d = _stitch_diameter(stitch)
+    clearance = 0.01 * d
+    return fibre_low - d / 2 - clearance, fibre_high + d / 2 + clearance
+
+
+def _needle_diameter(stitch: StitchSpec, d: float, fibre_d_max: float) -> float:
+    """The needle diameter (um), refused unless it opens a channel for the yarn (diameter ``d``)
+    past the thickest chain (``fibre_d_max``) and stays below the hole spacing."""
     min_needle = d + fibre_d_max
     needle = units.to_micro(stitch.needle_diameter_mm, "mm")
     if needle < min_needle:
@@ -258,34 +296,58 @@ def _stitch_beads(spec, length, width, fibre_low, fibre_high, fibre_d_max):
             stitch.needle_diameter_mm,
             f"must be at least {min_needle / 1e3:.4g} mm (stitch plus fibre diameter) to open a channel",
         )
-    gauge = units.to_micro(stitch.gauge_mm, "mm")
-    stitch_length = units.to_micro(stitch.stitch_length_mm, "mm")
-    if needle >= min(gauge, stitch_length):
+    spacing = min(
+        units.to_micro(stitch.gauge_mm, "mm"), units.to_micro(stitch.stitch_length_mm, "mm")
+    )
+    if needle >= spacing:
         raise SpecError(
             "stitch.needle_diameter_mm",
             needle / 1e3,
-            f"must be below the hole spacing {min(gauge, stitch_length) / 1e3:.4g} mm"
+            f"must be below the hole spacing {spacing / 1e3:.4g} mm"
             " (or use a smaller chain or stitch diameter)",
         )
-    clearance = 0.01 * d
-    z_bottom = fibre_low - d / 2 - clearance
-    z_top = fibre_high + d / 2 + clearance
-    path = stitch_path(stitch.overlaps, gauge, stitch_length, (length, width), z_bottom, z_top)
-    ratio = spec.discretisation.bead_spacing_ratio
-    chains = [sample_closed_polyline(v, path.closing_shift, ratio * d) for v in path.yarn_vertices]
-    positions = np.stack([c.positions for c in chains])
-    first = chains[0]
-    area = np.pi * d**2 / 4.0
-    bead_density = rho * area * first.length_per_bead / (np.pi * d**3 / 6.0)
+    return needle
+
+
+def _stitch_part(
+    spec: FabricSpec, cell: tuple[float, float], faces: tuple[float, float], fibre_d_max: float
+) -> Part:
+    """The stitch yarns between the underlap and loop heights ``faces`` (um), one bead type and
+    one bond type per distinct rest length; no fibre volume; the needle holes."""
+    stitch = spec.stitch
+    d = _stitch_diameter(stitch)
+    needle = _needle_diameter(stitch, d, fibre_d_max)
+    gauge = units.to_micro(stitch.gauge_mm, "mm")
+    stitch_length = units.to_micro(stitch.stitch_length_mm, "mm")
+    path = stitch_path(stitch.overlaps, gauge, stitch_length, cell, *faces)
+    spacing = spec.discretisation.bead_spacing_ratio * d
+    chains = [sample_closed_polyline(v, path.closing_shift, spacing) for v in path.yarn_vertices]
+    first = chains[0]  # every yarn translates the first
+    n_yarns, per_yarn = len(chains), len(first.positions)
+    rho = units.to_micro(stitch.density_g_cm3, "g_cm3")
+    modulus = units.to_micro(stitch.E_GPa, "GPa")
+    packing = stitch.packing_fraction
+    yarn_rho = rho * packing  # mass of the yarn per volume of its cylinder
+    area = packing * np.pi * d**2 / 4.0  # fibre cross-section of the yarn
     kind = path.kind[first.segment]
-    return (
-        positions,
-        d,
-        bead_density,
-        first.bonds,
+    types, bond_type = _rest_length_types(
         first.bond_length,
-        kind,
-        path.needle_points,
-        needle,
-        (z_bottom, z_top),
+        "stitch",
+        modulus * area,
+        lambda j, i: f"stitch_{SEGMENT_KINDS[kind[i]]}_{j}",
+    )
+    cylinder = np.pi * d**2 / 4.0
+    bead_density = yarn_rho * cylinder * first.length_per_bead / (np.pi * d**3 / 6.0)
+    offsets = (np.arange(n_yarns) * per_yarn)[:, None, None]
+    return Part(
+        positions=_wrapped(np.stack([c.positions for c in chains]), cell),
+        type_id=np.zeros(n_yarns * per_yarn, dtype=np.int64),
+        density=np.tile(bead_density, n_yarns),
+        mol_id=np.repeat(np.arange(n_yarns), per_yarn),
+        bonds=(first.bonds[None, :, :] + offsets).reshape(-1, 2),
+        bond_type=np.tile(bond_type, n_yarns),
+        atom_types=(AtomType("stitch", "stitch", d, rho, modulus, None, packing),),
+        bond_types=types,
+        needle_points=path.needle_points,
+        needle_diameter=needle,
     )
