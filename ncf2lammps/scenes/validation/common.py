@@ -20,7 +20,7 @@ from ... import __version__, units
 from ...engine import Engine
 from ...io.datafile import write_data
 from ...io.deck import render
-from ...model import AtomType, BondType, Box, Model
+from ...model import AtomType, BondType, Box, Model, Part, join
 from ...numerics import ContactLaw
 
 __all__ = [
@@ -127,7 +127,7 @@ class ChainSet:
         self.atom_types: list[AtomType] = []
         self.bond_types: list[BondType] = []
         self._densities: list[float] = []
-        self._parts: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+        self._chains: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
 
     def add_type(self, atom: AtomType, bond: BondType, bead_density: float) -> int:
         """Register one bead/bond type pair; returns its index."""
@@ -144,43 +144,40 @@ class ChainSet:
         """
         positions = np.asarray(positions, dtype=float).reshape(-1, 3)
         types = np.broadcast_to(np.asarray(type_index, dtype=np.int64), len(positions))
-        start = sum(len(p[0]) for p in self._parts)
-        local = np.arange(len(positions))
-        ends = local if closed else local[:-1]
-        bonds = np.stack([ends, np.roll(local, -1)[: len(ends)]], axis=1)
-        self._parts.append((positions, types, bonds))
-        return start + local
+        indices = sum(len(c[0]) for c in self._chains) + np.arange(len(positions))
+        ends = indices if closed else indices[:-1]
+        bonds = np.stack([ends, np.roll(indices, -1)[: len(ends)]], axis=1)
+        self._chains.append((positions, types, bonds))
+        return indices
 
     def model(self, lo: Sequence[float], hi: Sequence[float], tilt=(0.0, 0.0, 0.0)) -> Model:
-        """The collected chains in a box ``lo``..``hi`` (um) with tilt ``(xy, xz, yz)`` (um)."""
-        positions = np.concatenate([p[0] for p in self._parts])
-        type_id = np.concatenate([p[1] for p in self._parts])
-        mol_id = np.concatenate([np.full(len(p[0]), i) for i, p in enumerate(self._parts)])
-        offsets = np.cumsum([0] + [len(p[0]) for p in self._parts])
-        bonds = np.concatenate([p[2] + o for p, o in zip(self._parts, offsets, strict=False)])
-        bonds = bonds.astype(np.int64).reshape(-1, 2)
-        bond_type = type_id[bonds[:, 0]]
+        """The collected chains in a box ``lo``..``hi`` (um) with tilt ``(xy, xz, yz)`` (um).
+
+        One molecule per chain; the mat thickness and faces are the box's z extent, the fibre
+        volume that of every bead's cylinder.
+        """
+        positions, type_id, bonds = (
+            np.concatenate(arrays) for arrays in zip(*self._chains, strict=True)
+        )
+        mol_id = np.concatenate([np.full(len(c[0]), i) for i, c in enumerate(self._chains)])
         diameter = np.array([t.diameter for t in self.atom_types])[type_id]
-        lengths = np.asarray(hi, dtype=float) - np.asarray(lo, dtype=float)
         density = np.array(self._densities)[type_id]
         rho = np.array([t.density for t in self.atom_types])[type_id]
-        volume = float(np.sum(density / rho * np.pi * diameter**3 / 6.0))
-        return Model(
+        part = Part(
             positions=positions,
-            diameter=diameter,
-            density=density,
             type_id=type_id,
+            density=density,
             mol_id=mol_id,
             bonds=bonds,
-            bond_type=bond_type,
+            bond_type=type_id[bonds[:, 0]],
             atom_types=tuple(self.atom_types),
             bond_types=tuple(self.bond_types),
-            box=Box(np.asarray(lo, float), np.asarray(hi, float), np.asarray(tilt, float)),
-            mat_thickness=float(lengths[2]),
-            fibre_volume=volume,
-            needle_points=np.zeros((0, 2)),
-            needle_diameter=0.0,
-            faces_z=(float(lo[2]), float(hi[2])),
+            fibre_volume=float(np.sum(density / rho * np.pi * diameter**3 / 6.0)),
+        )
+        lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+        box = Box(lo, hi, np.asarray(tilt, dtype=float))
+        return join(
+            [part], box, mat_thickness=float(hi[2] - lo[2]), faces_z=(float(lo[2]), float(hi[2]))
         )
 
 

@@ -1,0 +1,353 @@
+"""Build the bead model of a :class:`FabricSpec`: one part per ply, one for the stitch yarns.
+
+Lengths in um, LAMMPS ``micro`` units. Each builder returns a :class:`~.parts.Part` whose
+positions are wrapped into the cell in x and y; :func:`~.parts.join` assembles them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .. import units
+from ..geometry import (
+    SEGMENT_KINDS,
+    BeadChain,
+    ply_chains,
+    ply_layout,
+    sample_closed_polyline,
+    stitch_path,
+)
+from ..geometry.mat import PlyLayout, Waviness, wavy_chains
+from ..spec import FabricSpec, SpecError, StitchSpec
+from .core import AngleType, AtomType, BondType, Box, Model
+from .parts import Part, join
+
+__all__ = ["MAX_BEADS", "build_model"]
+
+#: Largest model built (about 5 GB of arrays and data file): ten times the million beads that are
+#: a normal input. A spec asking for more is refused before any array is allocated.
+MAX_BEADS = 10_000_000
+
+
+def build_model(spec: FabricSpec) -> Model:
+    """Generate the homogeneous mat at the initial Vf and the idealised stitch yarn."""
+    cell = tuple(units.to_micro(v, "mm") for v in spec.cell_mm)
+    plies: list[Part] = []
+    z = 0.0
+    for index in range(len(spec.plies)):
+        plies.append(_ply_part(spec, index, cell, z, sum(len(p.positions) for p in plies)))
+        z += _ply_thickness(spec, index)
+    fibre_low = min(float((p.positions[:, 2] - p.diameter / 2).min()) for p in plies)
+    fibre_high = max(float((p.positions[:, 2] + p.diameter / 2).max()) for p in plies)
+    faces = (fibre_low, fibre_high)
+    parts = plies
+    if spec.stitch is not None:
+        faces = _stitch_faces(spec.stitch, fibre_low, fibre_high)
+        fibre_d_max = max(p.atom_types[0].diameter for p in plies)
+        parts = [*plies, _stitch_part(spec, cell, faces, fibre_d_max)]
+    margin = max(z, 4.0 * max(t.diameter for p in parts for t in p.atom_types))
+    box = Box(
+        lo=np.array([0.0, 0.0, faces[0] - margin]),
+        hi=np.array([*cell, faces[1] + margin]),
+        tilt=np.zeros(3),
+    )
+    bending = spec.discretisation.bending
+    return join(parts, box, mat_thickness=z, faces_z=faces, angle_style=bending)
+
+
+def _wrapped(positions: np.ndarray, cell: tuple[float, float]) -> np.ndarray:
+    """(n, 3) copy of bead centres (any shape (..., 3)) with x, y wrapped into the cell (um)."""
+    out = np.array(positions, dtype=float).reshape(-1, 3)
+    out[:, 0] %= cell[0]
+    out[:, 1] %= cell[1]
+    return out
+
+
+# --- plies ------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class _PlyChains:
+    """A ply's chains and the pattern of n beads every chain repeats.
+
+    Attributes: beads (C, n, 3) bead centres (um); bond_type (n,) index into bond_types of the
+    bond from each bead to the next; length_per_bead (n,) chain length each bead stands for
+    (um); rest_angle (n,) angle at each bead (deg); fibre_length: length of one chain (um).
+    """
+
+    beads: np.ndarray
+    bond_type: np.ndarray
+    bond_types: tuple[BondType, ...]
+    length_per_bead: np.ndarray
+    rest_angle: np.ndarray
+    fibre_length: float
+
+
+def _ply_thickness(spec: FabricSpec, index: int) -> float:
+    """Thickness of ply ``index`` in the homogeneous mat, ``A / (Vf rho)`` (um)."""
+    ply = spec.plies[index]
+    areal = units.to_micro(ply.areal_weight_g_m2, "g_m2")
+    return areal / (spec.mat.initial_fvf * units.to_micro(ply.density_g_cm3, "g_cm3"))
+
+
+def _ply_part(
+    spec: FabricSpec, index: int, cell: tuple[float, float], z_bottom: float, beads_before: int
+) -> Part:
+    """The chains of ply ``index`` from height ``z_bottom`` (um) up, one type for its beads.
+
+    ``beads_before`` (the beads of the plies below) counts towards :data:`MAX_BEADS`.
+    """
+    ply = spec.plies[index]
+    along_x = ply.angle_deg == 0.0
+    rho = units.to_micro(ply.density_g_cm3, "g_cm3")
+    modulus = units.to_micro(ply.E_GPa, "GPa")
+    chain_length, across = cell if along_x else cell[::-1]
+    fill = spec.discretisation.chain_internal_fvf
+    waviness = _waviness(spec)
+    layout = ply_layout(
+        units.to_micro(ply.areal_weight_g_m2, "g_m2"),
+        rho,
+        chain_length,
+        across,
+        z_bottom,
+        spec.mat.initial_fvf,
+        spec.discretisation.chain_diameter_um,
+        spec.discretisation.bead_spacing_ratio,
+        f"ply[{index}]",
+        fill=fill,
+        waviness=waviness,
+    )
+    planned = beads_before + layout.n_chains * _beads_per_chain(layout, chain_length, waviness)
+    _check_bead_count(spec, index, planned)
+    d = layout.diameter
+    area = fill * np.pi * d**2 / 4.0  # fibre cross-section of one chain
+    name = f"ply{index}_{ply.angle_deg:g}deg"
+    if waviness is None:
+        beads = ply_chains(layout, along_x, across)
+        chains = _straight_chains(beads, layout.spacing, chain_length, name, modulus * area)
+    else:
+        beads, template = wavy_chains(layout, along_x, across, chain_length, waviness, index)
+        chains = _wavy_chains(beads, template, chain_length, name, modulus * area)
+    n_chains, per_chain = chains.beads.shape[:2]
+    local = np.arange(n_chains * per_chain).reshape(n_chains, per_chain)
+    part = Part(
+        positions=_wrapped(chains.beads, cell),
+        type_id=np.zeros(n_chains * per_chain, dtype=np.int64),
+        density=np.tile(rho * area * chains.length_per_bead / (np.pi * d**3 / 6.0), n_chains),
+        mol_id=np.repeat(np.arange(n_chains), per_chain),
+        bonds=np.stack([local, np.roll(local, -1, axis=1)], axis=-1).reshape(-1, 2),
+        bond_type=np.tile(chains.bond_type, n_chains),
+        atom_types=(AtomType(name, "fibre", d, rho, modulus, ply.angle_deg, fill),),
+        bond_types=chains.bond_types,
+        fibre_volume=area * chains.fibre_length * n_chains,
+    )
+    if spec.discretisation.bending == "none":
+        return part
+    bending = area * modulus * ply.filament_diameter_um**2 / 16.0  # N_f E pi d_f^4 / 64
+    return _bent(part, spec.discretisation.bending, bending, chains, name)
+
+
+def _beads_per_chain(layout: PlyLayout, chain_length: float, waviness: Waviness | None) -> int:
+    """Beads each chain of the layout will get (um lengths), known before any is placed."""
+    if waviness is None:
+        return layout.beads_per_chain
+    stretch = waviness.length_factor(chain_length)
+    return round(stretch * chain_length / layout.spacing) + len(waviness.vertices(chain_length))
+
+
+def _check_bead_count(spec: FabricSpec, index: int, planned: int) -> None:
+    """Refuse a model of more than :data:`MAX_BEADS` beads (``planned`` up to ply ``index``)."""
+    if planned > MAX_BEADS:
+        raise SpecError(
+            "discretisation.chain_diameter_um",
+            spec.discretisation.chain_diameter_um,
+            f"gives more than {MAX_BEADS:,} beads on this cell ({planned:,} by ply[{index}]);"
+            " raise the chain diameter or shrink the cell",
+        )
+
+
+def _straight_chains(beads, spacing, chain_length, name, axial) -> _PlyChains:
+    """The paper's straight chains, beads (C, n, 3) at ``spacing`` (um): one bond type at rest
+    at the spacing, ``K = EA / (2 s)`` with ``EA = axial`` (nN)."""
+    n = beads.shape[1]
+    bond = BondType(name, "fibre", axial / (2 * spacing), spacing, axial)
+    zeros = np.zeros(n, dtype=np.int64)
+    return _PlyChains(beads, zeros, (bond,), np.full(n, spacing), np.full(n, 180.0), chain_length)
+
+
+def _wavy_chains(beads, template: BeadChain, chain_length, name, axial) -> _PlyChains:
+    """Wavy chains, beads (C, n, 3) each a translate of ``template`` (cell edge ``chain_length``
+    um): one bond type per distinct rest length, ``K = EA / (2 r0)`` with ``EA = axial`` (nN)."""
+    r0 = template.bond_length
+    types, bond_type = _rest_length_types(r0, "fibre", axial, lambda j, i: f"{name}_{j}")
+    rest_angle = _rest_angles(template.positions, chain_length)
+    lengths = template.length_per_bead
+    return _PlyChains(beads, bond_type, types, lengths, rest_angle, float(r0.sum()))
+
+
+def _bent(part: Part, style: str, bending: float, chains: _PlyChains, name: str) -> Part:
+    """``part`` with an angle at every bead of its closed chains (vertex the bead), of
+    ``style`` with bending stiffness ``EI = bending`` (nN um^2)."""
+    n_chains, per_chain = chains.beads.shape[:2]
+    local = np.arange(n_chains * per_chain).reshape(n_chains, per_chain)
+    triples = np.stack([np.roll(local, 1, axis=1), local, np.roll(local, -1, axis=1)])
+    types, per_bead = _angle_kinds(style, bending, chains.rest_angle, chains.length_per_bead, name)
+    return replace(
+        part,
+        angles=triples.reshape(3, -1).T,
+        angle_type=np.tile(per_bead, n_chains),
+        angle_types=tuple(types),
+    )
+
+
+def _waviness(spec: FabricSpec) -> Waviness | None:
+    """The mat's waviness, None for the paper's straight chains."""
+    mat = spec.mat
+    if mat.waviness_amplitude_um == 0.0:
+        return None
+    return Waviness(
+        amplitude=mat.waviness_amplitude_um,
+        waves=mat.waviness_waves_per_cell,
+        out_of_plane=mat.waviness_plane == "out-of-plane",
+        phase_spread=mat.waviness_phase_spread_deg / 360.0,
+        seed=mat.seed,
+    )
+
+
+def _rest_angles(chain: np.ndarray, chain_length: float) -> np.ndarray:
+    """(n,) angle (deg) at each bead of one closed chain between its two bonds (180: straight)."""
+    shift = np.array([chain_length, 0.0, 0.0])
+    before = np.vstack([chain[-1:] - shift, chain[:-1]]) - chain
+    after = np.vstack([chain[1:], chain[:1] + shift]) - chain
+    cosine = np.einsum("ij,ij->i", before, after)
+    cosine /= np.linalg.norm(before, axis=1) * np.linalg.norm(after, axis=1)
+    return np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
+
+
+def _angle_kinds(style, bending, rest_angle, spacing, name):
+    """Angle types of one chain's beads: (types, (n,) type index of each bead).
+
+    One type per distinct (rest angle, chain length per bead); ``K = EI / (2 s)`` (harmonic) or
+    ``EI / s`` (cosine) with ``EI = bending`` (nN um^2) and ``s`` the bead's chain length.
+    """
+    first, inverse = _distinct(np.column_stack([rest_angle, spacing]))
+    types = []
+    for j, i in enumerate(first):
+        s = float(spacing[i])
+        k = bending / (2.0 * s) if style == "harmonic" else bending / s
+        label = f"{name}_bend" if len(first) == 1 else f"{name}_bend_{j}"
+        types.append(AngleType(label, "fibre", k, float(rest_angle[i]), bending, s))
+    return types, inverse
+
+
+# --- type tables ------------------------------------------------------------------------------
+
+
+def _distinct(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Classes of values equal to 1e-6 (rows of a 2-D array): (index of each class's first
+    member, (n,) class of each value), classes in ascending order."""
+    keys = np.rint(np.asarray(values) * 1e6).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    return first, inverse.ravel()
+
+
+def _rest_length_types(r0: np.ndarray, role: str, axial: float, label):
+    """One bond type per distinct rest length, so that every bond starts exactly at rest.
+
+    ``r0``: (m,) rest lengths (um); ``K = EA / (2 r0)`` with ``EA = axial`` (nN); ``label(j, i)``
+    names class ``j`` whose first bond is ``i``. Returns (types, (m,) type index of each bond).
+    """
+    first, inverse = _distinct(r0)
+    types = tuple(
+        BondType(label(j, i), role, axial / (2 * float(r0[i])), float(r0[i]), axial)
+        for j, i in enumerate(first)
+    )
+    return types, inverse
+
+
+# --- stitch -----------------------------------------------------------------------------------
+
+
+def _stitch_diameter(stitch: StitchSpec) -> float:
+    """Yarn diameter (um): the spec's, else ``sqrt(4 T / (pi rho phi))`` from its dtex."""
+    rho = units.to_micro(stitch.density_g_cm3, "g_cm3") * stitch.packing_fraction
+    linear = units.to_micro(stitch.linear_density_dtex, "dtex")
+    return stitch.diameter_um or float(np.sqrt(4.0 * linear / (np.pi * rho)))
+
+
+def _stitch_faces(stitch: StitchSpec, fibre_low: float, fibre_high: float) -> tuple[float, float]:
+    """Heights of the underlap and loop axes (um): one yarn radius and a 1 % clearance beyond
+    the fibre extent ``fibre_low``..``fibre_high`` (um)."""
+    d = _stitch_diameter(stitch)
+    clearance = 0.01 * d
+    return fibre_low - d / 2 - clearance, fibre_high + d / 2 + clearance
+
+
+def _needle_diameter(stitch: StitchSpec, d: float, fibre_d_max: float) -> float:
+    """The needle diameter (um), refused unless it opens a channel for the yarn (diameter ``d``)
+    past the thickest chain (``fibre_d_max``) and stays below the hole spacing."""
+    min_needle = d + fibre_d_max
+    needle = units.to_micro(stitch.needle_diameter_mm, "mm")
+    if needle < min_needle:
+        raise SpecError(
+            "stitch.needle_diameter_mm",
+            stitch.needle_diameter_mm,
+            f"must be at least {min_needle / 1e3:.4g} mm (stitch plus fibre diameter) to open a channel",
+        )
+    spacing = min(
+        units.to_micro(stitch.gauge_mm, "mm"), units.to_micro(stitch.stitch_length_mm, "mm")
+    )
+    if needle >= spacing:
+        raise SpecError(
+            "stitch.needle_diameter_mm",
+            needle / 1e3,
+            f"must be below the hole spacing {spacing / 1e3:.4g} mm"
+            " (or use a smaller chain or stitch diameter)",
+        )
+    return needle
+
+
+def _stitch_part(
+    spec: FabricSpec, cell: tuple[float, float], faces: tuple[float, float], fibre_d_max: float
+) -> Part:
+    """The stitch yarns between the underlap and loop heights ``faces`` (um), one bead type and
+    one bond type per distinct rest length; no fibre volume; the needle holes."""
+    stitch = spec.stitch
+    d = _stitch_diameter(stitch)
+    needle = _needle_diameter(stitch, d, fibre_d_max)
+    gauge = units.to_micro(stitch.gauge_mm, "mm")
+    stitch_length = units.to_micro(stitch.stitch_length_mm, "mm")
+    path = stitch_path(stitch.overlaps, gauge, stitch_length, cell, *faces)
+    spacing = spec.discretisation.bead_spacing_ratio * d
+    chains = [sample_closed_polyline(v, path.closing_shift, spacing) for v in path.yarn_vertices]
+    first = chains[0]  # every yarn translates the first
+    n_yarns, per_yarn = len(chains), len(first.positions)
+    rho = units.to_micro(stitch.density_g_cm3, "g_cm3")
+    modulus = units.to_micro(stitch.E_GPa, "GPa")
+    packing = stitch.packing_fraction
+    yarn_rho = rho * packing  # mass of the yarn per volume of its cylinder
+    area = packing * np.pi * d**2 / 4.0  # fibre cross-section of the yarn
+    kind = path.kind[first.segment]
+    types, bond_type = _rest_length_types(
+        first.bond_length,
+        "stitch",
+        modulus * area,
+        lambda j, i: f"stitch_{SEGMENT_KINDS[kind[i]]}_{j}",
+    )
+    cylinder = np.pi * d**2 / 4.0
+    bead_density = yarn_rho * cylinder * first.length_per_bead / (np.pi * d**3 / 6.0)
+    offsets = (np.arange(n_yarns) * per_yarn)[:, None, None]
+    return Part(
+        positions=_wrapped(np.stack([c.positions for c in chains]), cell),
+        type_id=np.zeros(n_yarns * per_yarn, dtype=np.int64),
+        density=np.tile(bead_density, n_yarns),
+        mol_id=np.repeat(np.arange(n_yarns), per_yarn),
+        bonds=(first.bonds[None, :, :] + offsets).reshape(-1, 2),
+        bond_type=np.tile(bond_type, n_yarns),
+        atom_types=(AtomType("stitch", "stitch", d, rho, modulus, None, packing),),
+        bond_types=types,
+        needle_points=path.needle_points,
+        needle_diameter=needle,
+    )
