@@ -63,6 +63,33 @@ def closest_pairs(positions: np.ndarray, box_lengths: np.ndarray, cutoff: float)
     return pairs, distances
 
 
+def bond_lengths(model):
+    """Minimum-image bond lengths (um), (n_bonds,) float."""
+    delta = model.positions[model.bonds[:, 1]] - model.positions[model.bonds[:, 0]]
+    lengths = model.box.lengths
+    delta[:, :2] -= np.rint(delta[:, :2] / lengths[:2]) * lengths[:2]
+    return np.linalg.norm(delta, axis=1)
+
+
+def assert_model_invariants(spec, model):
+    """The generation invariants of every valid spec: fibre areal weight and mat Vf equal the
+    spec's (1e-9 relative: the chain diameter conserves fibre volume), every bond at its rest
+    length (1e-9), two bonds per bead (closed chains), no two fibre beads of different chains
+    closer than 0.99 of their contact distance (periodic images included)."""
+    expected = sum(p.areal_weight_g_m2 for p in spec.plies)
+    assert model.areal_weight("fibre") == pytest.approx(expected, rel=1e-9)
+    assert model.fvf(model.mat_thickness) == pytest.approx(spec.mat.initial_fvf, rel=1e-9)
+    r0 = np.array([t.r0 for t in model.bond_types])[model.bond_type]
+    np.testing.assert_allclose(bond_lengths(model), r0, rtol=1e-9)
+    counts = np.bincount(model.bonds.ravel(), minlength=model.n_atoms)
+    assert np.array_equal(counts, np.full(model.n_atoms, 2))
+    fibre = model.role_mask("fibre")
+    pairs, distances = closest_pairs(model.positions, model.box.lengths, model.diameter.max())
+    keep = (model.mol_id[pairs[:, 0]] != model.mol_id[pairs[:, 1]]) & fibre[pairs].all(axis=1)
+    contact = 0.5 * model.diameter[pairs].sum(axis=1)
+    assert np.all(distances[keep] >= 0.99 * contact[keep])
+
+
 @pytest.fixture(scope="session")
 def case_models():
     """{case: (spec, model)} of the three committed cases, built once."""

@@ -13,8 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import closest_pairs, tiny_spec
-from test_model import bond_lengths
+from conftest import assert_model_invariants, tiny_spec
 
 from ncf2lammps import build, build_model, units
 from ncf2lammps.engine import Engine
@@ -31,22 +30,6 @@ def fibre_cross_section(spec, ply_index, model):
     width = model.box.lengths[1] if ply.angle_deg == 0.0 else model.box.lengths[0]
     rho = units.to_micro(ply.density_g_cm3, "g_cm3")
     return units.to_micro(ply.areal_weight_g_m2, "g_m2") / rho * width
-
-
-def assert_conserved(spec, model):
-    """Fibre areal weight and mat Vf equal the spec's (1e-9), every bond at rest, two bonds per
-    bead, no two fibre beads of different chains closer than 0.99 of their contact distance."""
-    expected = sum(p.areal_weight_g_m2 for p in spec.plies)
-    assert model.areal_weight("fibre") == pytest.approx(expected, rel=1e-9)
-    assert model.fvf(model.mat_thickness) == pytest.approx(spec.mat.initial_fvf, rel=1e-9)
-    r0 = np.array([t.r0 for t in model.bond_types])[model.bond_type]
-    np.testing.assert_allclose(bond_lengths(model), r0, rtol=1e-9)
-    assert np.array_equal(np.bincount(model.bonds.ravel()), np.full(model.n_atoms, 2))
-    fibre = model.role_mask("fibre")
-    pairs, distances = closest_pairs(model.positions, model.box.lengths, model.diameter.max())
-    keep = (model.mol_id[pairs[:, 0]] != model.mol_id[pairs[:, 1]]) & fibre[pairs].all(axis=1)
-    contact = 0.5 * model.diameter[pairs].sum(axis=1)
-    assert np.all(distances[keep] >= 0.99 * contact[keep])
 
 
 # --- spec -------------------------------------------------------------------------------------
@@ -117,7 +100,7 @@ def test_chain_internal_fvf_keeps_fibre_mass_and_stiffness(fill):
     # compaction must stop below that (the default 0.67 is refused).
     spec = tiny_spec(discretisation={"chain_internal_fvf": fill}, compaction={"final_fvf": 0.5})
     model = build_model(spec)
-    assert_conserved(spec, model)
+    assert_model_invariants(spec, model)
     for index, t in enumerate(model.atom_types):
         if t.role != "fibre":
             continue
@@ -144,7 +127,7 @@ def test_chain_internal_fvf_keeps_fibre_mass_and_stiffness(fill):
 def test_wavy_chains_conserve_fibre_stay_at_rest_and_apart(mat):
     spec = tiny_spec(mat=mat)
     model = build_model(spec)
-    assert_conserved(spec, model)
+    assert_model_invariants(spec, model)
     # The displacement of a 0 deg chain (along x) oscillates with the spec's amplitude.
     index = [t.angle_deg for t in model.atom_types].index(0.0)
     chain = model.mol_id == model.mol_id[model.type_id == index][0]
@@ -206,15 +189,15 @@ def test_bending_coefficient_from_filament_count(style):
 def test_without_bending_no_angle_anywhere(tmp_path):
     result = build(tiny_spec(), tmp_path / "run")
     assert "angle" not in (result.directory / "model.data").read_text().lower()
-    for path in result.decks.values():
-        commands = [ln.split() for ln in path.read_text().splitlines() if ln.strip()]
+    for deck in result.decks.values():
+        commands = [ln.split() for ln in deck.text.splitlines() if ln.strip()]
         assert not any(
             w[0].startswith("angle_")
             or (w[:3] == ["atom_style", "hybrid", "sphere"] and "angle" in w)
             for w in commands
         ), path
     bent = build(tiny_spec(discretisation={"bending": "cosine"}), tmp_path / "bent")
-    verify = bent.decks["verify"].read_text()
+    verify = bent.decks["verify"].text
     assert "atom_style      hybrid sphere angle" in verify and "angle_style     cosine" in verify
 
 
@@ -275,7 +258,7 @@ def test_stitch_packing_fraction_sets_diameter_not_mass_or_stiffness():
         for t in model.bond_types:
             if t.role == "stitch":
                 assert t.axial_stiffness == pytest.approx(ea, rel=1e-12)
-    assert_conserved(spec, loose)
+    assert_model_invariants(spec, loose)
 
 
 # --- friction ---------------------------------------------------------------------------------
@@ -283,11 +266,11 @@ def test_stitch_packing_fraction_sets_diameter_not_mass_or_stiffness():
 
 def test_fibre_stitch_friction_only_on_fibre_stitch_pairs(tmp_path):
     result = build(tiny_spec(contact={"fibre_stitch_friction": 0.15}), tmp_path / "run")
-    deck = result.decks["verify"].read_text()
+    deck = result.decks["verify"].text
     lines = [ln.split() for ln in deck.splitlines() if ln.startswith("pair_coeff")]
     mu = {(w[1], w[2]): float(w[w.index("linear_history") + 3]) for w in lines}
     assert mu == {("*", "*"): 0.3, ("1", "3"): 0.15, ("2", "3"): 0.15}
-    default = build(tiny_spec(), tmp_path / "default").decks["verify"].read_text()
+    default = build(tiny_spec(), tmp_path / "default").decks["verify"].text
     assert sum(ln.startswith("pair_coeff") for ln in default.splitlines()) == 1
 
 

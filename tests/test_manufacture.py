@@ -101,10 +101,3 @@ def test_needle_axes_include_periodic_images():
     axes = needle_axes(model)
     assert len(axes) > len(model.needle_points)
     assert np.any(axes[:, 0] > model.box.lengths[0])
-
-
-def test_manufacture_deck_holds_only_its_commands(manufactured):
-    _, folder, _ = manufactured
-    deck = (folder / "decks" / "in.manufacture.lmp").read_text()
-    for absent in ("fix             deform", "wall/gran", "wall/harmonic", "shell"):
-        assert absent not in deck

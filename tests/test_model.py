@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import closest_pairs, tiny_spec
+from conftest import assert_model_invariants, tiny_spec
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -12,30 +12,10 @@ from ncf2lammps import build_model
 from ncf2lammps.spec import SpecError
 
 
-def bond_lengths(model):
-    """Minimum-image bond lengths (um)."""
-    delta = model.positions[model.bonds[:, 1]] - model.positions[model.bonds[:, 0]]
-    lengths = model.box.lengths
-    delta[:, :2] -= np.rint(delta[:, :2] / lengths[:2]) * lengths[:2]
-    return np.linalg.norm(delta, axis=1)
-
-
 def assert_invariants(spec, model):
-    """The generation invariants every valid spec must satisfy."""
-    # Fibre areal weight equals the spec's (volume-conserving chain diameter): 1e-9 relative.
-    expected = sum(p.areal_weight_g_m2 for p in spec.plies)
-    assert model.areal_weight("fibre") == pytest.approx(expected, rel=1e-9)
-    # Vf of the mat at its thickness equals the initial Vf.
-    assert model.fvf(model.mat_thickness) == pytest.approx(spec.mat.initial_fvf, rel=1e-9)
-    # Every bond starts exactly at its rest length (chains close across the boundary).
-    r0 = np.array([t.r0 for t in model.bond_types])[model.bond_type]
-    np.testing.assert_allclose(bond_lengths(model), r0, rtol=1e-9)
-    # Every bead has exactly two bonds: closed chains, no loose ends.
-    assert np.array_equal(
-        np.bincount(model.bonds.ravel(), minlength=model.n_atoms), np.full(model.n_atoms, 2)
-    )
-    # Mass per length is the cylinder's: rho pi d^2 / 4 per um of chain.
-    fibre = model.role_mask("fibre")
+    """The shared generation invariants, and mass per length equal to the cylinder's
+    (rho pi d^2 / 4 per um of straight chain, 1e-9 relative)."""
+    assert_model_invariants(spec, model)
     for index, t in enumerate(model.atom_types):
         if t.role != "fibre":
             continue
@@ -46,14 +26,6 @@ def assert_invariants(spec, model):
         assert model.mass[in_type].sum() == pytest.approx(
             t.density * np.pi * t.diameter**2 / 4 * chain_length, rel=1e-9
         )
-    # No two beads of different chains closer than 0.99 d (periodic images included).
-    d_max = float(model.diameter.max())
-    pairs, distances = closest_pairs(model.positions, model.box.lengths, d_max)
-    different = model.mol_id[pairs[:, 0]] != model.mol_id[pairs[:, 1]]
-    both_fibre = fibre[pairs[:, 0]] & fibre[pairs[:, 1]]
-    contact = 0.5 * (model.diameter[pairs[:, 0]] + model.diameter[pairs[:, 1]])
-    keep = different & both_fibre
-    assert np.all(distances[keep] >= 0.99 * contact[keep])
 
 
 def test_hpt310_paper_cell(case_models):
