@@ -1,4 +1,5 @@
-"""Command line: ``ncf2lammps check|build|run|export|report ...``; thin, it parses and calls the package.
+"""Command line: ``ncf2lammps check|build|run|export|report|validate|study``; thin, it parses
+the arguments and calls the package.
 
 Exit codes: 0 success; 2 bad input (one line naming the field and the allowed range);
 1 a failed run (with a diagnosis).

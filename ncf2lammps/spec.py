@@ -3,7 +3,8 @@
 A spec describes one fabric (plies, stitch) and its digital-chain model (discretisation, initial
 mat, contact, numerics) in engineering units named in the keys. Every field is checked once, here:
 a bad value raises :class:`SpecError` naming the field, the value and the allowed range. Unknown
-keys are errors. Defaults cite their source in :data:`FIELD_DOCS` (printed by ``check``).
+keys are errors. Each field declares its range, unit and the source of its default in its
+field metadata (:func:`_f`).
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ Stages, in order (templates/manufacture.lmp.j2 marks each with ``# stage:``):
 1. ``needles``: stitch beads frozen and out of contact; one cylinder per needle hole (and its
    periodic images near the cell edge) grows from a thread to the needle radius at the needle
    speed and pushes fibre beads out (``fix wall/region`` harmonic, cutoff = bead radius), under
-   Langevin damping at T = 0.
+   a viscous drag ``-m v / tau`` on every bead (``fix viscous``).
 2. ``insertion``: checked first (Python): channels open (no fibre bead centre closer to a needle
    axis than the needle radius) and no stitch bead overlapping a fibre bead by more than
    ``insertion_overlap_tolerance`` x d. Then stitch-fibre contact on, everything integrated, the
