@@ -103,7 +103,7 @@ def _controlled_run(folder, resume: bool, kill_at: int | None = None) -> float:
     """Run CONTROLLED_DECK (checkpoints every 50 steps, chunks of 25) and return the controlled
     variable; ``kill_at`` stops it by an exception after that step, as a kill would."""
 
-    def on_chunk(stage, step, end):
+    def on_chunk(stage, step, start, end):
         if kill_at is not None and step >= kill_at:
             raise _Killed
 

@@ -46,35 +46,38 @@ def _type_mean_mass(model: Model) -> np.ndarray:
     return np.divide(totals, counts, out=np.ones(n_types), where=counts > 0)
 
 
-def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps model") -> Path:
-    """Write ``model`` as a LAMMPS data file (atom_style hybrid sphere bond, triclinic box)."""
-    path = Path(path)
+def _labels(title: str, types) -> list[str]:
+    """A type-label section: ``id name`` per type, 1-based."""
+    return [title, "", *(f"{i + 1} {t.name}" for i, t in enumerate(types)), ""]
+
+
+def _angle_sections(model: Model) -> tuple[list[str], list[str], list[str]]:
+    """(header counts, type labels, coefficients) of the angles; empty lists without angles."""
+    if not model.n_angles:
+        return [], [], []
+    harmonic = model.angle_style == "harmonic"
+    counts = [f"{model.n_angles} angles", f"{len(model.angle_types)} angle types"]
+    coeffs = [
+        f"Angle Coeffs # {model.angle_style}",
+        "",
+        *(
+            f"{i + 1} {t.k:.17g} {t.theta0:.17g}" if harmonic else f"{i + 1} {t.k:.17g}"
+            for i, t in enumerate(model.angle_types)
+        ),
+        "",
+    ]
+    return counts, _labels("Angle Type Labels", model.angle_types), coeffs
+
+
+def _header(model: Model, title: str) -> list[str]:
+    """Every line before the Atoms rows: counts, box, labels, masses, coefficients."""
     box = model.box
-    n_atoms, n_bonds = model.n_atoms, model.n_bonds
-    angle_counts, angle_labels, angle_tables = [], [], []
-    if model.n_angles:  # LAMMPS wants every type label before the first coefficient
-        harmonic = model.angle_style == "harmonic"
-        angle_counts = [f"{model.n_angles} angles", f"{len(model.angle_types)} angle types"]
-        angle_labels = [
-            "Angle Type Labels",
-            "",
-            *(f"{i + 1} {t.name}" for i, t in enumerate(model.angle_types)),
-            "",
-        ]
-        angle_tables = [
-            f"Angle Coeffs # {model.angle_style}",
-            "",
-            *(
-                f"{i + 1} {t.k:.17g} {t.theta0:.17g}" if harmonic else f"{i + 1} {t.k:.17g}"
-                for i, t in enumerate(model.angle_types)
-            ),
-            "",
-        ]
-    header = [
+    angle_counts, angle_labels, angle_coeffs = _angle_sections(model)
+    return [
         f"LAMMPS data file: {title}",
         "",
-        f"{n_atoms} atoms",
-        f"{n_bonds} bonds",
+        f"{model.n_atoms} atoms",
+        f"{model.n_bonds} bonds",
         f"{len(model.atom_types)} atom types",
         f"{len(model.bond_types)} bond types",
         *angle_counts,
@@ -84,14 +87,9 @@ def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps m
         f"{box.lo[2]:.17g} {box.hi[2]:.17g} zlo zhi",
         f"{box.tilt[0]:.17g} {box.tilt[1]:.17g} {box.tilt[2]:.17g} xy xz yz",
         "",
-        "Atom Type Labels",
-        "",
-        *(f"{i + 1} {t.name}" for i, t in enumerate(model.atom_types)),
-        "",
-        "Bond Type Labels",
-        "",
-        *(f"{i + 1} {t.name}" for i, t in enumerate(model.bond_types)),
-        "",
+        # LAMMPS wants every type label before the first coefficient.
+        *_labels("Atom Type Labels", model.atom_types),
+        *_labels("Bond Type Labels", model.bond_types),
         *angle_labels,
         # Unused by the run (per-atom masses govern), but LAMMPS writes them back with write_data
         # and refuses to read a data file whose type masses are 0.
@@ -103,49 +101,43 @@ def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps m
         "",
         *(f"{i + 1} {t.k:.17g} {t.r0:.17g}" for i, t in enumerate(model.bond_types)),
         "",
-        *angle_tables,
+        *angle_coeffs,
         "Atoms # hybrid",
         "",
     ]
-    ids = np.arange(1, n_atoms + 1)
-    atoms = _format_rows(
-        [
-            ids,
-            model.type_id + 1,
-            *model.positions.T,
-            model.diameter,
-            model.density,
-            model.mol_id + 1,
-        ],
-        ["%d", "%d", _FLOAT, _FLOAT, _FLOAT, _FLOAT, _FLOAT, "%d"],
-    )
-    bonds = _format_rows(
-        [
-            np.arange(1, n_bonds + 1),
-            model.bond_type + 1,
-            model.bonds[:, 0] + 1,
-            model.bonds[:, 1] + 1,
-        ],
-        ["%d", "%d", "%d", "%d"],
-    )
+
+
+def write_data(path: str | os.PathLike, model: Model, title: str = "ncf2lammps model") -> Path:
+    """Write ``model`` as a LAMMPS data file (atom_style hybrid sphere bond, triclinic box)."""
+    path = Path(path)
+    atom_columns = [
+        np.arange(1, model.n_atoms + 1),
+        model.type_id + 1,
+        *model.positions.T,
+        model.diameter,
+        model.density,
+        model.mol_id + 1,
+    ]
+    bond_columns = [
+        np.arange(1, model.n_bonds + 1),
+        model.bond_type + 1,
+        model.bonds[:, 0] + 1,
+        model.bonds[:, 1] + 1,
+    ]
     with open(path, "w") as fh:
-        fh.write("\n".join(header) + "\n")
-        fh.write(atoms)
-        if n_bonds:
+        fh.write("\n".join(_header(model, title)) + "\n")
+        fh.write(_format_rows(atom_columns, ["%d", "%d", *[_FLOAT] * 5, "%d"]))
+        if model.n_bonds:
             fh.write("\nBonds\n\n")
-            fh.write(bonds)
+            fh.write(_format_rows(bond_columns, ["%d"] * 4))
         if model.n_angles:
+            angle_columns = [
+                np.arange(1, model.n_angles + 1),
+                model.angle_type + 1,
+                *(model.angles.T + 1),
+            ]
             fh.write("\nAngles\n\n")
-            fh.write(
-                _format_rows(
-                    [
-                        np.arange(1, model.n_angles + 1),
-                        model.angle_type + 1,
-                        *(model.angles.T + 1),
-                    ],
-                    ["%d"] * 5,
-                )
-            )
+            fh.write(_format_rows(angle_columns, ["%d"] * 5))
     return path
 
 
@@ -189,67 +181,64 @@ _SECTIONS = (
 )
 
 
-def read_data(path: str | os.PathLike) -> LammpsData:
-    """Read a data file written by :func:`write_data` or by LAMMPS ``write_data`` (same style)."""
-    text = Path(path).read_text()
-    lines = text.splitlines()
-    counts = {}
-    bounds = {}
-    tilt = np.zeros(3)
-    starts = {}
-    for i, line in enumerate(lines[1:], start=1):
-        words = line.split("#")[0].split()
-        stripped = line.strip()
-        head = stripped.split("#")[0].strip()
-        if head in _SECTIONS:
-            starts[head] = i
-            continue
-        if starts:
-            continue
-        if len(words) == 2 and words[1] in ("atoms", "bonds", "angles"):
-            counts[words[1]] = int(words[0])
-        elif len(words) == 4 and words[2:] in (["xlo", "xhi"], ["ylo", "yhi"], ["zlo", "zhi"]):
-            bounds[words[2][0]] = (float(words[0]), float(words[1]))
-        elif len(words) == 6 and words[3:] == ["xy", "xz", "yz"]:
-            tilt = np.array([float(w) for w in words[:3]])
-    order = sorted(starts.values())
+class _Sections:
+    """The header values and the named sections of a data file's lines."""
 
-    def body(name: str) -> str:
-        if name not in starts:
+    def __init__(self, lines: list[str]):
+        self.lines = lines
+        self.counts: dict[str, int] = {}
+        self.bounds: dict[str, tuple[float, float]] = {}
+        self.tilt = np.zeros(3)
+        self.starts: dict[str, int] = {}
+        for i, line in enumerate(lines[1:], start=1):
+            head = line.split("#")[0].strip()
+            words = head.split()
+            if head in _SECTIONS:
+                self.starts[head] = i
+            elif self.starts:
+                continue
+            elif len(words) == 2 and words[1] in ("atoms", "bonds", "angles"):
+                self.counts[words[1]] = int(words[0])
+            elif len(words) == 4 and words[2:] in (["xlo", "xhi"], ["ylo", "yhi"], ["zlo", "zhi"]):
+                self.bounds[words[2][0]] = (float(words[0]), float(words[1]))
+            elif len(words) == 6 and words[3:] == ["xy", "xz", "yz"]:
+                self.tilt = np.array([float(w) for w in words[:3]])
+
+    def body(self, name: str) -> str:
+        """The section's lines without comments ("" if absent)."""
+        if name not in self.starts:
             return ""
-        begin = starts[name] + 1
-        later = [s for s in order if s > starts[name]]
-        end = later[0] if later else len(lines)
-        return "\n".join(re.sub(r"#.*", "", ln) for ln in lines[begin:end])
+        begin = self.starts[name] + 1
+        later = [s for s in sorted(self.starts.values()) if s > self.starts[name]]
+        end = later[0] if later else len(self.lines)
+        return "\n".join(re.sub(r"#.*", "", ln) for ln in self.lines[begin:end])
 
-    def table(name: str) -> np.ndarray:
-        text = body(name)
+    def table(self, name: str) -> np.ndarray:
+        """The section as a float table sorted by its first column (ids), (rows, columns)."""
+        text = self.body(name)
         first = next((ln for ln in text.splitlines() if ln.strip()), "")
-        values = np.array(text.split(), dtype=float)
-        return values.reshape(-1, max(1, len(first.split())))
+        values = np.array(text.split(), dtype=float).reshape(-1, max(1, len(first.split())))
+        return values[np.argsort(values[:, 0])] if values.size else values
 
-    def labels(name: str) -> tuple[str, ...]:
-        rows = [ln.split() for ln in body(name).splitlines() if ln.strip()]
+    def labels(self, name: str) -> tuple[str, ...]:
+        """The names of a type-label section, by type id."""
+        rows = [ln.split() for ln in self.body(name).splitlines() if ln.strip()]
         return tuple(r[1] for r in sorted(rows, key=lambda r: int(r[0])))
 
-    atoms = table("Atoms")  # 8 columns, or 11 with image flags
-    if len(atoms) != counts.get("atoms", 0):
-        raise ValueError(f"{path}: Atoms section has {len(atoms)} rows, header says {counts}")
-    atoms = atoms[np.argsort(atoms[:, 0])]
-    bonds = table("Bonds")
-    bonds = bonds[np.argsort(bonds[:, 0])]
-    coeffs = table("Bond Coeffs")
-    coeffs = coeffs[np.argsort(coeffs[:, 0])][:, 1:]
-    angles = table("Angles")
-    angles = angles[np.argsort(angles[:, 0])] if angles.size else np.zeros((0, 5))
-    angle_coeffs = table("Angle Coeffs")
-    if angle_coeffs.size:
-        angle_coeffs = angle_coeffs[np.argsort(angle_coeffs[:, 0])][:, 1:]
-    box = Box(
-        lo=np.array([bounds[a][0] for a in "xyz"]),
-        hi=np.array([bounds[a][1] for a in "xyz"]),
-        tilt=tilt,
-    )
+
+def read_data(path: str | os.PathLike) -> LammpsData:
+    """Read a data file written by :func:`write_data` or by LAMMPS ``write_data`` (same style)."""
+    sections = _Sections(Path(path).read_text().splitlines())
+    atoms = sections.table("Atoms")  # 8 columns, or 11 with image flags
+    if len(atoms) != sections.counts.get("atoms", 0):
+        raise ValueError(
+            f"{path}: Atoms section has {len(atoms)} rows, header says {sections.counts}"
+        )
+    bonds = sections.table("Bonds")
+    angles = sections.table("Angles")
+    angles = angles if angles.size else np.zeros((0, 5))
+    angle_coeffs = sections.table("Angle Coeffs")
+    bounds = sections.bounds
     return LammpsData(
         positions=atoms[:, 2:5],
         diameter=atoms[:, 5],
@@ -258,12 +247,16 @@ def read_data(path: str | os.PathLike) -> LammpsData:
         mol_id=atoms[:, 7].astype(np.int64) - 1,
         bonds=bonds[:, 2:4].astype(np.int64) - 1,
         bond_type=bonds[:, 1].astype(np.int64) - 1,
-        box=box,
-        bond_coeffs=coeffs,
-        atom_labels=labels("Atom Type Labels"),
-        bond_labels=labels("Bond Type Labels"),
+        box=Box(
+            lo=np.array([bounds[a][0] for a in "xyz"]),
+            hi=np.array([bounds[a][1] for a in "xyz"]),
+            tilt=sections.tilt,
+        ),
+        bond_coeffs=sections.table("Bond Coeffs")[:, 1:],
+        atom_labels=sections.labels("Atom Type Labels"),
+        bond_labels=sections.labels("Bond Type Labels"),
         angles=angles[:, 2:5].astype(np.int64) - 1,
         angle_type=angles[:, 1].astype(np.int64) - 1,
-        angle_coeffs=angle_coeffs if angle_coeffs.size else np.zeros((0, 1)),
-        angle_labels=labels("Angle Type Labels"),
+        angle_coeffs=angle_coeffs[:, 1:] if angle_coeffs.size else np.zeros((0, 1)),
+        angle_labels=sections.labels("Angle Type Labels"),
     )
