@@ -145,25 +145,39 @@ def ply_layout(
     n_rows = int(min(n_chains, max(1, np.floor(thickness / row_pitch * (1.0 + 1e-12)))))
     rows = np.full(n_rows, n_chains // n_rows, dtype=np.int64)
     rows[: n_chains % n_rows] += 1
-    if waviness is not None and width / rows.max() < across_pitch:
+    _check_rows_fit(rows.max(), width, d, across_pitch, fvf, waviness, field_prefix)
+    row_z = z_bottom + (np.arange(n_rows) + 0.5) * thickness / n_rows
+    beads = max(3, round(chain_length / (spacing_ratio * d)))
+    return PlyLayout(n_chains, d, rows, row_z, beads, chain_length / beads)
+
+
+def _check_rows_fit(
+    per_row: int,
+    width: float,
+    d: float,
+    across_pitch: float,
+    fvf: float,
+    waviness: Waviness | None,
+    field_prefix: str,
+) -> None:
+    """SpecError unless ``per_row`` chains of diameter ``d`` (um), ``across_pitch`` apart when
+    wavy, fit side by side across ``width`` (um)."""
+    if waviness is not None and width / per_row < across_pitch:
         raise SpecError(
             "mat.waviness_amplitude_um",
             waviness.amplitude,
             f"in-plane waviness needs chains {across_pitch:.4g} um apart in a row, but"
-            f" {field_prefix} packs {rows.max()} across {width:.4g} um (lower the amplitude,"
+            f" {field_prefix} packs {per_row} across {width:.4g} um (lower the amplitude,"
             " mat.waviness_phase_spread_deg or mat.initial_fvf)",
         )
-    if width / rows.max() < d * (1.0 - 1e-12):
+    if width / per_row < d * (1.0 - 1e-12):
         raise SpecError(
             "mat.initial_fvf",
             fvf,
-            f"too dense for {d:.4g} um chains in {field_prefix}: a sub-row of {rows.max()} chains"
-            f" needs {rows.max() * d:.4g} um across {width:.4g} um (lower mat.initial_fvf or"
+            f"too dense for {d:.4g} um chains in {field_prefix}: a sub-row of {per_row} chains"
+            f" needs {per_row * d:.4g} um across {width:.4g} um (lower mat.initial_fvf or"
             " discretisation.chain_diameter_um)",
         )
-    row_z = z_bottom + (np.arange(n_rows) + 0.5) * thickness / n_rows
-    beads = max(3, round(chain_length / (spacing_ratio * d)))
-    return PlyLayout(n_chains, d, rows, row_z, beads, chain_length / beads)
 
 
 def ply_chains(layout: PlyLayout, along_x: bool, width: float) -> np.ndarray:

@@ -281,8 +281,23 @@ def study(
     return _write_tables(directory, spec, points, reference, rows, wanted, tolerance)
 
 
-def _write_tables(directory, spec, points, reference, rows, scenes, tolerance) -> list[Path]:
-    """study.csv, study.md and study.png from the rows of every point."""
+@dataclass(frozen=True)
+class _Table:
+    """The study's numbers: outputs (attr, label), values and their relative errors (P, O), the
+    largest error, wall time and Pareto membership (P,), and the CSV columns."""
+
+    outputs: list[tuple[str, str]]
+    knobs: list[str]
+    values: np.ndarray
+    errors: np.ndarray
+    worst: np.ndarray
+    wall: np.ndarray
+    front: np.ndarray
+    columns: dict[str, list]
+
+
+def _table(points, reference: int, rows: list[dict], scenes) -> _Table:
+    """Errors against the reference point, the largest per point and the Pareto front."""
     outputs = [(attr, label) for scene, attr, label in OUTPUTS if scene in scenes]
     values = np.array([[row.get(attr, np.nan) for attr, _ in outputs] for row in rows])
     errors = relative_errors(values, reference)
@@ -304,12 +319,13 @@ def _write_tables(directory, spec, points, reference, rows, scenes, tolerance) -
     columns["max_kinetic_ratio"] = [r.get("max_kinetic_ratio", np.nan) for r in rows]
     columns["pareto"] = [bool(f) for f in front]
     columns["reference"] = [i == reference for i in range(len(rows))]
-    write_csv(directory / "study.csv.tmp", columns)
-    (directory / "study.csv.tmp").replace(directory / "study.csv")
-    fig = plot_study(wall, worst, front, columns["point"], tolerance, reference)
-    fig.savefig(directory / "study.png", dpi=120)
-    plt.close(fig)
-    within = np.flatnonzero(worst <= tolerance)
+    return _Table(outputs, knobs, values, errors, worst, wall, front, columns)
+
+
+def _markdown(spec, table: _Table, rows, reference: int, scenes, tolerance: float) -> str:
+    """study.md: the table of every point and the fastest point within the tolerance."""
+    knobs, outputs, values, errors = table.knobs, table.outputs, table.values, table.errors
+    worst, wall = table.worst, table.wall
     lines = [
         f"# Study: {spec.name}",
         "",
@@ -337,10 +353,11 @@ def _write_tables(directory, spec, points, reference, rows, scenes, tolerance) -
                 f"{wall[i]:.0f}",
                 f"{row['steps']}",
                 f"{row['max_kinetic_ratio']:.2g}",
-                "yes" if front[i] else "",
+                "yes" if table.front[i] else "",
             ]
         lines.append("| " + " | ".join(cells) + " |")
     lines.append("")
+    within = np.flatnonzero(worst <= tolerance)
     if len(within):
         best = int(within[np.argmin(wall[within])])
         lines.append(
@@ -350,6 +367,18 @@ def _write_tables(directory, spec, points, reference, rows, scenes, tolerance) -
         )
     else:
         lines.append(f"No point is within {tolerance:.0%} of the reference on every output.")
-    lines += ["", "![error against wall time](study.png)", ""]
-    (directory / "study.md").write_text("\n".join(lines))
+    return "\n".join([*lines, "", "![error against wall time](study.png)", ""])
+
+
+def _write_tables(directory, spec, points, reference, rows, scenes, tolerance) -> list[Path]:
+    """study.csv, study.md and study.png from the rows of every point."""
+    table = _table(points, reference, rows, scenes)
+    write_csv(directory / "study.csv.tmp", table.columns)
+    (directory / "study.csv.tmp").replace(directory / "study.csv")
+    fig = plot_study(
+        table.wall, table.worst, table.front, table.columns["point"], tolerance, reference
+    )
+    fig.savefig(directory / "study.png", dpi=120)
+    plt.close(fig)
+    (directory / "study.md").write_text(_markdown(spec, table, rows, reference, scenes, tolerance))
     return [directory / "study.csv", directory / "study.md", directory / "study.png"]
