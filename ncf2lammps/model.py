@@ -16,13 +16,10 @@ import numpy as np
 from . import units
 from .geometry import SEGMENT_KINDS, ply_chains, ply_layout, sample_closed_polyline, stitch_path
 from .geometry.mat import Waviness, wavy_chains
+from .geometry.size import MAX_BEADS, check_model_size
 from .spec import FabricSpec, SpecError
 
 __all__ = ["MAX_BEADS", "AngleType", "AtomType", "BondType", "Box", "Model", "build_model"]
-
-#: Largest model built (about 5 GB of arrays and data file): ten times the million beads that are
-#: a normal input. A spec asking for more is refused before any array is allocated.
-MAX_BEADS = 10_000_000
 
 
 @dataclass(frozen=True)
@@ -220,6 +217,7 @@ class Model:
 
 def build_model(spec: FabricSpec) -> Model:
     """Generate the homogeneous mat at the initial Vf and the idealised stitch yarn."""
+    check_model_size(spec)  # before any array: a SpecError beyond MAX_BEADS
     length, width = (units.to_micro(v, "mm") for v in spec.cell_mm)
     fvf = spec.mat.initial_fvf
     ratio = spec.discretisation.bead_spacing_ratio
@@ -255,19 +253,6 @@ def build_model(spec: FabricSpec) -> Model:
         )
         z += areal / (fvf * rho)
         per_chain = layout.beads_per_chain
-        if waviness is not None:
-            stretch = waviness.length_factor(chain_length)
-            per_chain = round(stretch * chain_length / layout.spacing) + len(
-                waviness.vertices(chain_length)
-            )
-        planned = n_beads + layout.n_chains * per_chain
-        if planned > MAX_BEADS:
-            raise SpecError(
-                "discretisation.chain_diameter_um",
-                d_nominal,
-                f"gives more than {MAX_BEADS:,} beads on this cell ({planned:,} by ply[{index}]);"
-                " raise the chain diameter or shrink the cell",
-            )
         d, s = layout.diameter, layout.spacing
         area = fill * np.pi * d**2 / 4.0  # fibre cross-section of one chain
         name = f"ply{index}_{ply.angle_deg:g}deg"
