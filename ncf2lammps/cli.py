@@ -1,8 +1,9 @@
 """Command line: ``ncf2lammps check|build|run|export|report|validate|study``; thin, it parses
 the arguments and calls the package.
 
-Exit codes: 0 success; 2 bad input (one line naming the field and the allowed range);
-1 a failed run (with a diagnosis).
+Exit codes: 0 success; 2 bad input (one line naming the field, file or folder and what is
+allowed or what to do: spec values, spec files, run folders, results.h5, options); 1 a failed
+run (with a diagnosis) or a system error (one line).
 """
 
 from __future__ import annotations
@@ -13,10 +14,12 @@ import sys
 
 from . import __version__, units
 from .engine import EngineError
+from .io.results import ResultsFileError
 from .model import build_model
 from .numerics import STABLE_FRACTION, contact_law, simulated_model, time_step
-from .orchestration.build import OutputExistsError, build
+from .orchestration.build import OutputExistsError, build, check_ranks
 from .orchestration.export import export
+from .orchestration.folder import RunFolderError, check_output
 from .orchestration.report import write_report
 from .orchestration.run import run
 from .scenes import SCENES
@@ -73,6 +76,7 @@ def _check(args) -> int:
 
 def _build(args) -> int:
     spec = load_spec(args.spec)
+    check_output(args.output, force=args.force)  # before the model is built
     result = build(spec, args.output, force=args.force)
     print(
         f"wrote {result.directory}: model.data ({result.model.n_atoms} atoms, "
@@ -84,6 +88,8 @@ def _build(args) -> int:
 
 def _run(args) -> int:
     spec = load_spec(args.spec)
+    if not args.resume:
+        check_output(args.output, force=args.force)
     results = run(
         spec, args.output, scenes=args.scene, force=args.force, ranks=args.np, resume=args.resume
     )
@@ -93,6 +99,7 @@ def _run(args) -> int:
 
 def _export(args) -> int:
     spec = load_spec(args.spec)
+    check_output(args.output, force=args.force)
     folder = export(spec, args.output, args.np, args.time, args.module or (), force=args.force)
     print(f"wrote {folder}: run it with: mpirun -np {args.np} lmp -in in.run_all.lmp")
     return 0
@@ -105,14 +112,19 @@ def _report(args) -> int:
 
 
 def _study(args) -> int:
-    from .orchestration.study import parse_vary, study
+    from .orchestration.run import scenes_to_run
+    from .orchestration.study import parse_vary, study, study_grid
 
     spec = load_spec(args.spec)
     if not 0.0 < args.tolerance < 1.0:
         raise SpecError("--tolerance", args.tolerance, "must be in (0, 1)")
+    check_ranks(args.np)
     vary = [parse_vary(text) for text in args.vary or []]
     if not vary:
         raise SpecError("--vary", None, "give at least one KNOB=V1,V2,...")
+    study_grid(spec, vary, args.zip)  # every point valid before the folder is made
+    scenes_to_run(spec, args.scene)
+    check_output(args.output, study=True, make=True)
     for path in study(spec, args.output, vary, args.scene, args.zip, args.tolerance, args.np):
         print(f"wrote {path}")
     return 0
@@ -121,12 +133,21 @@ def _study(args) -> int:
 def _validate(args) -> int:
     from .scenes.validation import run_validation
 
+    check_output(args.output, force=True, make=True)
     return run_validation(args.output, full=args.full, cases=args.case)
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line (exit 2), like every bad input."""
+
+    def error(self, message: str):
+        text = " ".join(f"{self.prog}: error: {message} (see {self.prog} --help)".split())
+        self.exit(2, text + "\n")
 
 
 def parser() -> argparse.ArgumentParser:
     """The argument parser (one sub-command per verb)."""
-    top = argparse.ArgumentParser(
+    top = _Parser(
         prog="ncf2lammps",
         description="Digital-chain models of stitched non-crimp fabrics on LAMMPS.",
     )
@@ -219,7 +240,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser().parse_args(argv)
     try:
         return args.func(args)
-    except (SpecError, OutputExistsError) as err:
+    except (SpecError, OutputExistsError, RunFolderError, ResultsFileError) as err:
         print(f"ncf2lammps: error: {err}", file=sys.stderr)
         return 2
     except EngineError as err:
@@ -229,6 +250,10 @@ def main(argv: list[str] | None = None) -> int:
         # The reader of our output stopped (`ncf2lammps check SPEC | head`): no traceback, and
         # no second error when Python flushes stdout at exit.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+    except OSError as err:  # the system refused (disk full, permissions): one line, not input
+        where = f"{err.filename}: " if err.filename else ""
+        print(" ".join(f"ncf2lammps: error: {where}{err.strerror or err}".split()), file=sys.stderr)
         return 1
 
 

@@ -92,6 +92,12 @@ def parse_lapping(notation: str, field_path: str = "stitch.lapping") -> tuple[tu
     return tuple(overlaps)
 
 
+#: Range texts of material fields (the ``source=`` of their declarations).
+_FIBRE_DENSITIES = "engineering fibres span PP 0.91 and PE 0.97 to steel 7.9 g/cm3"
+_STIFFEST = "diamond, the stiffest solid (E ~1.05-1.2 TPa)"
+_FIBRE_MODULI = f"PP/PA fibres (~1-5 GPa) to pitch carbon (~900 GPa), below {_STIFFEST}"
+
+
 def _f(
     default, lo=None, hi=None, *, lo_open=False, hi_open=False, unit="", source="", choices=None
 ):
@@ -114,10 +120,18 @@ class PlySpec:
 
     angle_deg: float = _f(0.0, choices=(0.0, 90.0), unit="deg", source="0/90 biaxial NCF")
     areal_weight_g_m2: float = _f(
-        150.0, 0.0, 5000.0, lo_open=True, unit="g/m2", source="HPT 310 datasheet-typical 2 x 150"
+        150.0,
+        1.0,
+        5000.0,
+        unit="g/m2",
+        source="HPT 310 datasheet-typical 2 x 150; NCF plies weigh some 50 to 2000 g/m2",
     )
-    density_g_cm3: float = _f(1.80, 0.0, 25.0, lo_open=True, unit="g/cm3", source="carbon, paper")
-    E_GPa: float = _f(240.0, 0.0, 1e4, lo_open=True, unit="GPa", source="carbon HT, typical")
+    density_g_cm3: float = _f(
+        1.80, 0.8, 8.0, unit="g/cm3", source=f"carbon, paper; range: {_FIBRE_DENSITIES}"
+    )
+    E_GPa: float = _f(
+        240.0, 0.5, 1200.0, unit="GPa", source=f"carbon HT, typical; range: {_FIBRE_MODULI}"
+    )
     filament_diameter_um: float = _f(
         7.0, 1.0, 50.0, unit="um", source="carbon HT filament (T700S, HTS40: 7 um); bending only"
     )
@@ -129,11 +143,31 @@ class StitchSpec:
 
     pattern: str = _f("tricot-chain", choices=(*PATTERNS, "custom"), source="paper")
     lapping: str = _f("", source="empty: the pattern's notation (docs/stitch.md)")
-    gauge_mm: float = _f(5.08, 0.5, 50.0, unit="mm", source="paper (E5)")
+    gauge_mm: float = _f(
+        5.08,
+        0.5,
+        25.4,
+        unit="mm",
+        source="paper (E5); range: machine gauges E1 to E50 (25.4 / E mm needle spacing)",
+    )
     stitch_length_mm: float = _f(2.8, 0.2, 20.0, unit="mm", source="paper")
-    linear_density_dtex: float = _f(76.0, 1.0, 10000.0, unit="dtex", source="PES, typical NCF")
-    density_g_cm3: float = _f(1.38, 0.5, 5.0, unit="g/cm3", source="PES")
-    E_GPa: float = _f(12.0, 0.01, 1e4, unit="GPa", source="PES yarn 10-15 GPa, typical")
+    linear_density_dtex: float = _f(
+        76.0,
+        1.0,
+        10000.0,
+        unit="dtex",
+        source="PES, typical NCF; range: one filament (1 dtex) to a 1 g/m heavy yarn",
+    )
+    density_g_cm3: float = _f(
+        1.38, 0.8, 8.0, unit="g/cm3", source=f"PES; range: {_FIBRE_DENSITIES}"
+    )
+    E_GPa: float = _f(
+        12.0,
+        0.01,
+        1200.0,
+        unit="GPa",
+        source=f"PES yarn 10-15 GPa, typical; range: soft yarns (0.01 GPa) to {_STIFFEST}",
+    )
     diameter_um: float | None = _f(
         None, 1.0, 2000.0, unit="um", source="None: from dtex, density and packing_fraction"
     )
@@ -221,7 +255,12 @@ class ContactSpec:
         1.0e6, 1.0, 1.0e9, unit="N/m", source="docs/contact.md: below the stitch bond's EA/s"
     )
     contact_modulus_GPa: float = _f(
-        1.0, 1e-4, 500.0, unit="GPa", source="transverse bundle modulus, model choice (hertz)"
+        1.0,
+        1e-4,
+        200.0,
+        unit="GPa",
+        source="transverse bundle modulus, model choice (hertz); range: up to steel on steel,"
+        " E* = E / (2 (1 - nu^2)) ~ 115 GPa (Johnson, Contact Mechanics, 1985)",
     )
     damping_ratio: float = _f(0.3, 0.0, 1.0, unit="-", source="fraction of critical, per contact")
     tangential_stiffness_ratio: float = _f(
@@ -539,15 +578,49 @@ def _check_consistency(spec: FabricSpec) -> None:
         )
 
 
+#: Largest spec file read (a spec is a few kB of TOML).
+MAX_SPEC_BYTES = 1_000_000
+
+
 def load_spec(path: str | Path) -> FabricSpec:
-    """Read and validate a spec TOML file (raises :class:`SpecError`, one line, on bad input)."""
+    """Read and validate a spec TOML file (raises :class:`SpecError`, one line, on bad input).
+
+    The file must exist, be a regular file of at most :data:`MAX_SPEC_BYTES`, readable, UTF-8,
+    TOML and not empty; every failure names the path and what to give instead.
+    """
     path = Path(path)
+    shown = str(path)
     try:
-        text = path.read_text()
+        status = path.stat()
     except OSError as err:
-        raise SpecError("<file>", str(path), f"cannot be read ({err.strerror})") from None
+        why = "no such file" if isinstance(err, FileNotFoundError) else err.strerror
+        raise SpecError("<file>", shown, f"cannot be read ({why}): give a spec TOML file") from None
+    if path.is_dir():
+        inside = [p.name for p in (path / "spec.resolved.toml", path / "spec.toml") if p.is_file()]
+        hint = f" (it holds {inside[0]})" if inside else ""
+        raise SpecError("<file>", shown, f"is a folder, not a spec TOML file{hint}")
+    if not path.is_file():
+        raise SpecError("<file>", shown, "is not a regular file: give a spec TOML file")
+    if status.st_size > MAX_SPEC_BYTES:
+        raise SpecError(
+            "<file>", shown, f"is {status.st_size:,} bytes, more than a spec ({MAX_SPEC_BYTES:,})"
+        )
+    try:
+        raw = path.read_bytes()
+    except OSError as err:
+        raise SpecError("<file>", shown, f"cannot be read ({err.strerror})") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise SpecError(
+            "<file>", shown, f"is not UTF-8 text (byte {err.start}): a spec is a TOML text file"
+        ) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
-        raise SpecError("<file>", str(path), f"is not valid TOML ({err})") from None
+        raise SpecError("<file>", shown, f"is not valid TOML ({err})") from None
+    if not data:
+        raise SpecError(
+            "<file>", shown, "is empty: a spec needs [[ply]] tables (see runs/*/spec.toml)"
+        )
     return spec_from_dict(data)

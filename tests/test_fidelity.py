@@ -195,7 +195,7 @@ def test_without_bending_no_angle_anywhere(tmp_path):
             w[0].startswith("angle_")
             or (w[:3] == ["atom_style", "hybrid", "sphere"] and "angle" in w)
             for w in commands
-        ), path
+        ), deck.name
     bent = build(tiny_spec(discretisation={"bending": "cosine"}), tmp_path / "bent")
     verify = bent.decks["verify"].text
     assert "atom_style      hybrid sphere angle" in verify and "angle_style     cosine" in verify

@@ -8,12 +8,41 @@ that looks complete.
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import h5py
 import numpy as np
 
-__all__ = ["mark_complete", "read_results", "update_root", "write_root", "write_scene"]
+__all__ = [
+    "ROOT_ATTRS",
+    "ResultsFileError",
+    "mark_complete",
+    "read_results",
+    "update_root",
+    "write_root",
+    "write_scene",
+]
+
+#: Root attributes of a run's results.h5 (written first, by :func:`write_root`).
+ROOT_ATTRS = ("ncf2lammps_version", "spec_toml", "n_atoms", "n_bonds", "complete")
+
+
+class ResultsFileError(ValueError):
+    """A results.h5 that cannot be read (missing, empty, not HDF5, truncated, corrupt) or is not
+    a run's; ``str()`` is one line naming the file and the reason."""
+
+    def __init__(self, path: str | os.PathLike, reason: str):
+        self.path = Path(path)
+        self.reason = reason
+        super().__init__(f"{self.path}: {reason}")
+
+
+def _h5_reason(err: BaseException) -> str:
+    """The short cause inside an h5py message, e.g. ``truncated file: eof = 16000, ...``."""
+    text = " ".join(str(err).split())
+    inner = re.search(r"\(([^()]*)\)\s*$", text)
+    return (inner.group(1) if inner else text)[:200] or type(err).__name__
 
 
 def write_root(path: str | os.PathLike, attrs: dict) -> None:
@@ -54,13 +83,32 @@ def mark_complete(path: str | os.PathLike) -> None:
 
 
 def read_results(path: str | os.PathLike) -> dict:
-    """{"attrs": {...}, scene: {"attrs": {...}, dataset: array}} of a results file."""
+    """{"attrs": {...}, scene: {"attrs": {...}, dataset: array}} of a results file.
+
+    Raises :class:`ResultsFileError` if the file is missing, empty, not HDF5, truncated or
+    corrupt (a run's file also carries :data:`ROOT_ATTRS`; scenes run on a bare built folder
+    write only their groups).
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise ResultsFileError(path, "is a folder, not a file")
+    if not path.is_file():
+        raise ResultsFileError(path, "no such file")
+    if path.stat().st_size == 0:
+        raise ResultsFileError(path, "empty file (a run stopped before writing it)")
     out: dict = {}
-    with h5py.File(Path(path), "r") as fh:
-        out["attrs"] = dict(fh.attrs)
-        for name, group in fh.items():
-            out[name] = {"attrs": dict(group.attrs)}
-            out[name].update({k: group[k][()] for k in group})
+    try:
+        with h5py.File(path, "r") as fh:
+            out["attrs"] = dict(fh.attrs)
+            for name, group in fh.items():
+                if not isinstance(group, h5py.Group):
+                    raise ResultsFileError(path, f"/{name} is not a scene group")
+                out[name] = {"attrs": dict(group.attrs)}
+                out[name].update({k: group[k][()] for k in group})
+    except ResultsFileError:
+        raise
+    except (OSError, RuntimeError, KeyError, ValueError, TypeError) as err:
+        raise ResultsFileError(path, f"unreadable HDF5 ({_h5_reason(err)})") from None
     return out
 
 

@@ -19,25 +19,23 @@ from ..geometry import (
     sample_closed_polyline,
     stitch_path,
 )
-from ..geometry.mat import PlyLayout, Waviness, wavy_chains
+from ..geometry.mat import Waviness, wavy_chains
+from ..geometry.size import MAX_BEADS, check_model_size
 from ..spec import FabricSpec, SpecError, StitchSpec
 from .core import AngleType, AtomType, BondType, Box, Model
 from .parts import Part, join
 
 __all__ = ["MAX_BEADS", "build_model"]
 
-#: Largest model built (about 5 GB of arrays and data file): ten times the million beads that are
-#: a normal input. A spec asking for more is refused before any array is allocated.
-MAX_BEADS = 10_000_000
-
 
 def build_model(spec: FabricSpec) -> Model:
     """Generate the homogeneous mat at the initial Vf and the idealised stitch yarn."""
+    check_model_size(spec)  # before any array: a SpecError beyond MAX_BEADS
     cell = tuple(units.to_micro(v, "mm") for v in spec.cell_mm)
     plies: list[Part] = []
     z = 0.0
     for index in range(len(spec.plies)):
-        plies.append(_ply_part(spec, index, cell, z, sum(len(p.positions) for p in plies)))
+        plies.append(_ply_part(spec, index, cell, z))
         z += _ply_thickness(spec, index)
     fibre_low = min(float((p.positions[:, 2] - p.diameter / 2).min()) for p in plies)
     fibre_high = max(float((p.positions[:, 2] + p.diameter / 2).max()) for p in plies)
@@ -92,13 +90,8 @@ def _ply_thickness(spec: FabricSpec, index: int) -> float:
     return areal / (spec.mat.initial_fvf * units.to_micro(ply.density_g_cm3, "g_cm3"))
 
 
-def _ply_part(
-    spec: FabricSpec, index: int, cell: tuple[float, float], z_bottom: float, beads_before: int
-) -> Part:
-    """The chains of ply ``index`` from height ``z_bottom`` (um) up, one type for its beads.
-
-    ``beads_before`` (the beads of the plies below) counts towards :data:`MAX_BEADS`.
-    """
+def _ply_part(spec: FabricSpec, index: int, cell: tuple[float, float], z_bottom: float) -> Part:
+    """The chains of ply ``index`` from height ``z_bottom`` (um) up, one type for its beads."""
     ply = spec.plies[index]
     along_x = ply.angle_deg == 0.0
     rho = units.to_micro(ply.density_g_cm3, "g_cm3")
@@ -119,8 +112,6 @@ def _ply_part(
         fill=fill,
         waviness=waviness,
     )
-    planned = beads_before + layout.n_chains * _beads_per_chain(layout, chain_length, waviness)
-    _check_bead_count(spec, index, planned)
     d = layout.diameter
     area = fill * np.pi * d**2 / 4.0  # fibre cross-section of one chain
     name = f"ply{index}_{ply.angle_deg:g}deg"
@@ -147,25 +138,6 @@ def _ply_part(
         return part
     bending = area * modulus * ply.filament_diameter_um**2 / 16.0  # N_f E pi d_f^4 / 64
     return _bent(part, spec.discretisation.bending, bending, chains, name)
-
-
-def _beads_per_chain(layout: PlyLayout, chain_length: float, waviness: Waviness | None) -> int:
-    """Beads each chain of the layout will get (um lengths), known before any is placed."""
-    if waviness is None:
-        return layout.beads_per_chain
-    stretch = waviness.length_factor(chain_length)
-    return round(stretch * chain_length / layout.spacing) + len(waviness.vertices(chain_length))
-
-
-def _check_bead_count(spec: FabricSpec, index: int, planned: int) -> None:
-    """Refuse a model of more than :data:`MAX_BEADS` beads (``planned`` up to ply ``index``)."""
-    if planned > MAX_BEADS:
-        raise SpecError(
-            "discretisation.chain_diameter_um",
-            spec.discretisation.chain_diameter_um,
-            f"gives more than {MAX_BEADS:,} beads on this cell ({planned:,} by ply[{index}]);"
-            " raise the chain diameter or shrink the cell",
-        )
 
 
 def _straight_chains(beads, spacing, chain_length, name, axial) -> _PlyChains:

@@ -18,6 +18,7 @@ from ..model import Model
 from ..numerics import ContactLaw, Prepared, TimeStep, prepare
 from ..scenes import Deck, applicable_scenes, render_deck
 from ..spec import FabricSpec, SpecError
+from .folder import RunFolderError, check_output
 
 __all__ = ["MAX_RANKS", "Build", "OutputExistsError", "build", "check_ranks", "prepare_output"]
 
@@ -60,13 +61,15 @@ class Build:
 
 
 def prepare_output(directory: str | os.PathLike, force: bool = False) -> tuple[Path, Path]:
-    """(final, partial) paths; refuses an existing non-empty folder unless ``force``."""
-    final = Path(directory)
-    if final.exists() and (not final.is_dir() or any(final.iterdir())) and not force:
-        raise OutputExistsError(f"{final}: exists and is not empty (choose another -o or --force)")
+    """(final, partial) paths; refuses an existing non-empty folder unless ``force``, and a
+    file or an unwritable place always (:func:`~ncf2lammps.orchestration.folder.check_output`)."""
+    final = check_output(directory, force)
     partial = final.with_name(f"{final.name}.partial-{os.getpid()}")
     shutil.rmtree(partial, ignore_errors=True)
-    partial.mkdir(parents=True)
+    try:
+        partial.mkdir(parents=True)
+    except OSError as err:
+        raise RunFolderError(final, f"cannot be made ({err.strerror}): choose another -o") from None
     return final, partial
 
 

@@ -42,11 +42,13 @@ def export(
     and ``modules`` (``module load`` names) parameterise job.slurm.
     """
     check_ranks(ranks)
-    if (match := _WALL_TIME.match(wall_time)) is None:
+    if (match := _WALL_TIME.fullmatch(wall_time)) is None:
         raise SpecError("--time", wall_time, "must read [D-]HH:MM:SS")
     for name in modules:
-        if not _MODULE.match(name) or ".." in name:
+        if not _MODULE.fullmatch(name) or ".." in name:
             raise SpecError("--module", name, "must be a module name (letters, digits, _./+-)")
+    if not any(int(part or 0) for part in match.groups()):
+        raise SpecError("--time", wall_time, "must be longer than 0:00:00")
     scenes = list(applicable_scenes(spec))
     values = {
         "version": __version__,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import re
+import tomllib
 from datetime import UTC, datetime
 from pathlib import Path
 
@@ -18,7 +19,8 @@ from ..io.results import mark_complete, read_results, write_root, write_scene
 from ..io.spectoml import dumps_spec
 from ..numerics import prepare
 from ..scenes import SCENES, applicable_scenes
-from ..spec import load_spec
+from ..spec import SpecError, load_spec, spec_from_dict
+from .folder import check_run_folder
 
 __all__ = ["collect_outputs", "write_report"]
 
@@ -83,10 +85,11 @@ def _format(value) -> str:
     return str(value)
 
 
-def _trajectories(directory: Path) -> list[Path]:
-    """Local thickness and Vf of each scene's dump (MDAnalysis): group ``<scene>_trajectory``
-    of results.h5 (grid mean, min and max per frame) and a figure."""
-    dumps = [(s, directory / f"{s}.lammpstrj") for s in SCENES]
+def _trajectories(directory: Path, scenes) -> list[Path]:
+    """Local thickness and Vf of each finished scene's dump (MDAnalysis): group
+    ``<scene>_trajectory`` of results.h5 (grid mean, min and max per frame) and a figure (the
+    dump of a scene a killed run left unfinished may end mid-frame: it is skipped)."""
+    dumps = [(s, directory / f"{s}.lammpstrj") for s in SCENES if s in scenes]
     dumps = [(s, d) for s, d in dumps if d.is_file() and d.stat().st_size > 0]
     if not dumps:
         return []
@@ -156,16 +159,46 @@ def _indicator_lines(results: dict) -> list[str]:
     return [*lines, ""]
 
 
+def _incomplete_lines(directory: Path, results: dict, finished, bundle: bool) -> list[str]:
+    """The warning of a run that did not finish: the scenes it has and how to continue."""
+    if bool(results["attrs"]["complete"]):
+        return []
+    try:
+        stored = results["attrs"]["spec_toml"]
+        spec = spec_from_dict(
+            tomllib.loads(stored.decode() if isinstance(stored, bytes) else stored)
+        )
+        missing = [s for s in applicable_scenes(spec) if s not in finished]
+    except (SpecError, tomllib.TOMLDecodeError, UnicodeDecodeError, TypeError):
+        missing = []
+    how = (
+        "run the bundle's job again (finished scenes are skipped)"
+        if bundle
+        else f"continue it with `ncf2lammps run SPEC -o {directory} --resume`"
+    )
+    return [
+        f"**Incomplete run**: the run did not finish; this report shows the scenes it finished"
+        f" ({', '.join(finished) or 'none'}), not {', '.join(missing) or 'the rest'}: {how}.",
+        "",
+    ]
+
+
 def write_report(directory: str | os.PathLike) -> list[Path]:
     """Write figures/*.png and summary.md for the run in ``directory``; returns the files.
 
-    A bundle run by plain ``lmp`` (no results.h5 yet) is first collected into results.h5.
+    A bundle run by plain ``lmp`` (no results.h5 yet) is first collected into results.h5. The
+    folder is checked first (:func:`~ncf2lammps.orchestration.folder.check_run_folder`: a
+    one-line RunFolderError if it is not a run folder); a killed run's folder is reported with
+    the scenes it finished, and summary.md says that it is incomplete.
     """
     directory = Path(directory)
-    if (directory / "in.run_all.lmp").is_file():
+    folder = check_run_folder(directory, need="report")
+    if folder.bundle:
         collect_outputs(directory)
+    results = read_results(directory / "results.h5")
+    finished = [s for s in SCENES if s in results and results[s]["attrs"].get("complete")]
     (directory / "figures").mkdir(exist_ok=True)
-    written = _trajectories(directory)
+    written = _trajectories(directory, finished)
     results = read_results(directory / "results.h5")
     for scene in SCENES:
         if scene in results:
@@ -179,6 +212,7 @@ def write_report(directory: str | os.PathLike) -> list[Path]:
         f" {_format(root['mpi_ranks'])} MPI rank(s), created {_format(root['created'])};"
         f" complete: {bool(root['complete'])}.",
         "",
+        *_incomplete_lines(directory, results, finished, folder.bundle),
         *_indicator_lines(results),
     ]
     for scene, group in results.items():

@@ -31,12 +31,13 @@ from pathlib import Path
 
 from .. import __version__
 from ..engine import Checkpoints, EngineError, UnstableRunError, lammps_version
-from ..io.results import mark_complete, read_results, write_root, write_scene
+from ..io.results import mark_complete, write_root, write_scene
 from ..io.spectoml import dumps_spec, write_spec
 from ..numerics import Prepared, prepare
 from ..scenes import SCENES, Deck, applicable_scenes, render_deck
 from ..spec import FabricSpec, SpecError
 from .build import build, check_ranks
+from .folder import RunFolder, RunFolderError, check_run_folder
 from .report import write_report
 
 __all__ = ["checkpoints", "mpiexec", "run", "run_scenes", "scenes_to_run"]
@@ -159,9 +160,10 @@ def run(
     prepared: FabricSpec | Prepared = spec
     decks = None
     if resume:
-        directory = Path(directory)
+        folder = check_run_folder(directory, need="resume")
+        directory = folder.path
         results = directory / "results.h5"
-        done = _finished(spec, results)
+        done = _finished(spec, folder)
         wanted = [s for s in wanted if s not in done]
     else:
         built = build(spec, directory, force=force)
@@ -191,12 +193,14 @@ def run(
     return results
 
 
-def _finished(spec: FabricSpec, results: Path) -> set[str]:
-    """Scenes complete in the results.h5 of a run to resume with ``spec`` (SpecError if the
-    file is missing or the run used another spec)."""
-    if not results.is_file():
-        raise SpecError("--resume", str(results.parent), "has no results.h5 (start with run)")
-    content = read_results(results)
-    if content["attrs"]["spec_toml"] != dumps_spec(spec):
-        raise SpecError("--resume", str(results.parent), "was run with another spec")
-    return {k for k, v in content.items() if k != "attrs" and bool(v["attrs"].get("complete"))}
+def _finished(spec: FabricSpec, folder: RunFolder) -> set[str]:
+    """Scenes complete in the checked ``folder`` of a run to resume with ``spec``
+    (RunFolderError if the run used another spec)."""
+    if folder.results["attrs"]["spec_toml"] != dumps_spec(spec):
+        raise RunFolderError(
+            folder.path,
+            "was run with another spec: resume it with its own"
+            f" ({folder.path / 'spec.resolved.toml'}), or replace it with --force",
+            "--resume",
+        )
+    return set(folder.scenes)

@@ -36,7 +36,8 @@ import numpy as np
 from ..analysis.plots import plot_study
 from ..analysis.study import pareto_front, relative_errors
 from ..engine import EngineError
-from ..io.results import mark_complete, read_results, update_root
+from ..geometry.size import check_model_size
+from ..io.results import ResultsFileError, mark_complete, read_results, update_root
 from ..io.spectoml import dumps_spec, write_spec
 from ..io.table import write_csv
 from ..spec import FabricSpec, SpecError
@@ -124,6 +125,7 @@ def study_grid(
             table, field_name = knob.split(".")
             tables.setdefault(table, {})[field_name] = value
         point_spec = spec.replace(**tables) if tables else spec
+        check_model_size(point_spec)
         points.append(StudyPoint(f"p{index:02d}", dict(zip(names, combo, strict=True)), point_spec))
     conservative = [
         (min if KNOBS[knob] == "min" else max)(v for v in values if v is not None)
@@ -154,7 +156,10 @@ def _is_complete(directory: Path, spec: FabricSpec) -> bool:
     path = directory / "results.h5"
     if not path.is_file():
         return False
-    root = read_results(path)["attrs"]
+    try:
+        root = read_results(path)["attrs"]
+    except ResultsFileError:  # a point killed while writing it: run it again
+        return False
     spec_toml = root.get("spec_toml")
     if isinstance(spec_toml, bytes):
         spec_toml = spec_toml.decode()
@@ -171,7 +176,10 @@ def _reusable_scenes(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -
     path = directory / "results.h5"
     if not path.is_file():
         return set()
-    content = read_results(path)
+    try:
+        content = read_results(path)
+    except ResultsFileError:
+        return set()
     stored = content["attrs"].get("spec_toml")
     if isinstance(stored, bytes):
         stored = stored.decode()

@@ -1,0 +1,228 @@
+"""The checks of the folders the verbs read and write, in one place.
+
+:func:`check_run_folder` tells whether a folder is a run folder fit for ``report`` or
+``run --resume`` (missing, empty, a file, a study's, built but never run, an unfinished export,
+a killed run, an unreadable results.h5); :func:`check_output` whether ``-o`` can be written.
+Each failure is a :class:`RunFolderError`: one line naming the path, what is wrong and what to
+do. Reading results.h5 itself is :func:`~ncf2lammps.io.results.read_results`'s.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..io.results import ROOT_ATTRS, ResultsFileError, read_results
+from ..scenes import SCENES
+
+__all__ = ["RunFolder", "RunFolderError", "check_output", "check_run_folder"]
+
+#: A temporary folder of an interrupted build (:func:`~ncf2lammps.orchestration.build.build`).
+_PARTIAL = re.compile(r"\.partial-\d+$")
+
+
+class RunFolderError(ValueError):
+    """A folder that cannot serve the verb; ``str()`` is one line: path, what is wrong, what
+    to do."""
+
+    def __init__(self, path: str | os.PathLike, why: str, option: str = ""):
+        self.path = Path(path)
+        self.why = why
+        prefix = f"{option}: " if option else ""
+        super().__init__(" ".join(f"{prefix}{self.path}: {why}".split()))
+
+
+@dataclass(frozen=True)
+class RunFolder:
+    """A checked run folder: its path, results.h5 content (None for an exported bundle not yet
+    collected), whether the run finished, and its scenes with a complete group."""
+
+    path: Path
+    results: dict | None
+    complete: bool
+    scenes: tuple[str, ...]
+
+    @property
+    def bundle(self) -> bool:
+        """An exported bundle run by plain ``lmp`` (reported from its scene files)."""
+        return (self.path / "in.run_all.lmp").is_file()
+
+
+def _restart(directory: Path) -> str:
+    return f"start it again with `ncf2lammps run SPEC -o {directory} --force`"
+
+
+def _check_folder(directory: Path, need: str) -> None:
+    """The folder exists, is a folder, is not empty, not a study's nor a temporary build's."""
+    if not directory.exists():
+        what = "nothing to resume" if need == "resume" else "nothing to report"
+        raise RunFolderError(
+            directory,
+            f"no such folder ({what}): make it with `ncf2lammps run SPEC -o {directory}`",
+        )
+    if not directory.is_dir():
+        raise RunFolderError(
+            directory, "is a file, not a run folder (give the folder `ncf2lammps run -o` wrote)"
+        )
+    try:
+        empty = not any(directory.iterdir())
+    except OSError as err:
+        raise RunFolderError(directory, f"cannot be listed ({err.strerror})") from None
+    if empty:
+        raise RunFolderError(
+            directory,
+            f"is empty, not a run folder: make it with `ncf2lammps run SPEC -o {directory}`",
+        )
+    if _PARTIAL.search(directory.name):
+        raise RunFolderError(
+            directory, "is the temporary folder of an interrupted build: delete it and build again"
+        )
+    if (directory / "points").is_dir() and not (directory / "model.data").is_file():
+        raise RunFolderError(
+            directory,
+            f"is a study folder: give one of its points, e.g. {directory / 'points' / 'p00'}",
+        )
+
+
+def _bundle(directory: Path, need: str) -> RunFolder:
+    """An exported bundle: reportable once a scene has finished under plain ``lmp``."""
+    if need == "resume":
+        raise RunFolderError(
+            directory,
+            "is an exported bundle: resume it by running `mpirun -np N lmp -in in.run_all.lmp`"
+            " in it again (finished scenes are skipped)",
+        )
+    if not (directory / "spec.resolved.toml").is_file():
+        raise RunFolderError(directory, "is a bundle without spec.resolved.toml: export it again")
+    if not any((directory / f"{scene}.final.txt").is_file() for scene in SCENES):
+        raise RunFolderError(
+            directory,
+            "is an exported bundle no scene of which has finished: run `mpirun -np N lmp -in"
+            " in.run_all.lmp` in it, then report",
+        )
+    return RunFolder(directory, None, False, ())
+
+
+def check_run_folder(path: str | os.PathLike, need: str = "report") -> RunFolder:
+    """Check that ``path`` is a run folder fit for ``need`` (``"report"`` or ``"resume"``).
+
+    ``report`` needs results.h5 (or an exported bundle with a finished scene) with at least one
+    finished scene and write access for figures/ and summary.md; ``resume`` needs the built
+    files (model.data, spec.resolved.toml, decks/) and a readable results.h5. A killed run's
+    folder passes both (``complete`` False). Raises :class:`RunFolderError`.
+    """
+    if need not in ("report", "resume"):
+        raise ValueError(f"need must be 'report' or 'resume', not {need!r}")
+    try:
+        return _check_run_folder(Path(path), need)
+    except RunFolderError as err:
+        if need != "resume":
+            raise
+        raise RunFolderError(err.path, err.why, "--resume") from None
+
+
+def _check_run_folder(directory: Path, need: str) -> RunFolder:
+    _check_folder(directory, need)
+    if (directory / "in.run_all.lmp").is_file():
+        return _bundle(directory, need)  # its results.h5 is collected again from scene files
+    results_path = directory / "results.h5"
+    built = [name for name in ("model.data", "spec.resolved.toml") if (directory / name).is_file()]
+    if not results_path.exists():
+        if built:
+            raise RunFolderError(
+                directory,
+                "was built but never run (no results.h5): run it with"
+                f" `ncf2lammps run SPEC -o {directory} --force`",
+            )
+        raise RunFolderError(
+            directory,
+            "is not a run folder (no results.h5, model.data or spec.resolved.toml): give the"
+            " folder `ncf2lammps run -o` wrote",
+        )
+    if need == "resume":
+        for name in ("model.data", "spec.resolved.toml", "decks"):
+            if not (directory / name).exists():
+                raise RunFolderError(
+                    directory, f"has no {name}, so it cannot be resumed: {_restart(directory)}"
+                )
+    try:
+        results = read_results(results_path)
+    except ResultsFileError as err:
+        what = "cannot be resumed" if need == "resume" else "cannot be reported"
+        raise RunFolderError(
+            results_path, f"{err.reason}; the run {what}: {_restart(directory)}"
+        ) from None
+    missing = [key for key in ROOT_ATTRS if key not in results["attrs"]]
+    if missing:
+        raise RunFolderError(
+            results_path,
+            f"is not a run's results file (no root attribute {missing[0]!r}):"
+            f" {_restart(directory)}",
+        )
+    scenes = tuple(
+        name
+        for name, group in results.items()
+        if name in SCENES and bool(group["attrs"].get("complete"))
+    )
+    complete = bool(results["attrs"]["complete"])
+    if need == "report":
+        if not complete and not scenes:
+            raise RunFolderError(
+                directory,
+                "holds a run that stopped before its first scene finished (nothing to report):"
+                f" continue it with `ncf2lammps run SPEC -o {directory} --resume`",
+            )
+        if not os.access(directory, os.W_OK):
+            raise RunFolderError(
+                directory, "is not writable (report writes figures/ and summary.md into it)"
+            )
+    return RunFolder(directory, results, complete, scenes)
+
+
+def check_output(
+    path: str | os.PathLike, force: bool = False, study: bool = False, make: bool = False
+) -> Path:
+    """Check that ``-o path`` can become the output folder; returns it (made if ``make``).
+
+    Refused: an existing file (even with ``force``), a path below a file, a place that cannot be
+    written; without ``force`` a non-empty folder (a killed run's is pointed to ``--resume``)
+    unless ``study`` (a study folder is continued; :func:`~ncf2lammps.orchestration.study.study`
+    checks it holds a study).
+    """
+    final = Path(path)
+    if final.exists() and not final.is_dir():
+        raise RunFolderError(final, "is a file, not a folder: choose another -o")
+    if final.is_dir() and not force and not study and any(final.iterdir()):
+        why = "exists and is not empty (choose another -o or --force)"
+        if (final / "results.h5").is_file():
+            try:
+                unfinished = not bool(read_results(final / "results.h5")["attrs"].get("complete"))
+            except ResultsFileError:
+                unfinished = False
+            if unfinished:
+                why = (
+                    "exists and holds an unfinished run: continue it with --resume,"
+                    " or replace it with --force"
+                )
+        from .build import OutputExistsError  # the error `build` has always raised here
+
+        raise OutputExistsError(f"{final}: {why}")
+    ancestor = final if final.exists() else final.parent
+    while not ancestor.exists() and ancestor != ancestor.parent:
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        raise RunFolderError(final, f"cannot be made: {ancestor} is a file, not a folder")
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        raise RunFolderError(
+            final, f"cannot be made: {ancestor} is not writable (choose another -o)"
+        )
+    if make:
+        try:
+            final.mkdir(parents=True, exist_ok=True)
+        except OSError as err:
+            raise RunFolderError(
+                final, f"cannot be made ({err.strerror}): choose another -o"
+            ) from None
+    return final
