@@ -25,8 +25,9 @@ ONLY_IN = {
 def test_decks_hold_only_their_commands(case, tmp_path):
     result = build(case_spec(case), tmp_path / "run")
     stitch_types = [t.name for t in result.model.bond_types if t.role == "stitch"]
-    for scene, path in result.decks.items():
-        lines = [ln.strip() for ln in path.read_text().splitlines()]
+    for scene in result.decks:
+        deck = (result.directory / "decks" / f"in.{scene}.lmp").read_text()
+        lines = [ln.strip() for ln in deck.splitlines()]
         for pattern, owner in ONLY_IN.items():
             found = [ln for ln in lines if re.match(pattern, ln)]
             assert not found or scene == owner, (scene, found)
