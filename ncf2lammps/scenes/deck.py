@@ -1,5 +1,10 @@
 """A scene's deck: the base context every deck is rendered from, and the rendered deck itself.
 
+:func:`base_context` is the one builder of the values ``templates/base.lmp.j2`` reads, for the
+scenes (:func:`deck_context`, from a prepared run) and the validation decks alike (from a model,
+a time step and a contact law): every value is always given, so no template asks whether one
+is defined.
+
 Each deck is rendered once from a :class:`~ncf2lammps.numerics.Prepared` run; its recording
 period travels with it as a value (:attr:`Deck.period`), so nothing is parsed back out of text.
 """
@@ -7,15 +12,16 @@ period travels with it as a value (:attr:`Deck.period`), so nothing is parsed ba
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from .. import __version__
 from ..io.deck import render
 from ..model import Model
-from ..numerics import Prepared
+from ..numerics import ContactLaw, Guards, Prepared
 from ..spec import FabricSpec
 
-__all__ = ["Deck", "deck_context", "friction_pairs", "neighbor_skin", "render_deck"]
+__all__ = ["Deck", "base_context", "deck_context", "friction_pairs", "neighbor_skin", "render_deck"]
 
 
 @dataclass(frozen=True)
@@ -51,33 +57,75 @@ def friction_pairs(spec: FabricSpec, model: Model) -> list[tuple[int, int, float
     return [(i, stitch[0], float(mu)) for i in fibre]
 
 
-def deck_context(
-    run: Prepared, scene: str, data_file: str = "model.data", restart_every: int = 0
+def base_context(
+    model: Model,
+    dt: float,
+    contact: ContactLaw,
+    scene: str,
+    *,
+    data_file: str = "model.data",
+    skin: float | None = None,
+    bond_reach: float = 1.5,
+    thermo_every: int = 100000,
+    friction_pairs: Sequence[tuple[int, int, float]] = (),
+    guards: Guards | None = None,
+    dump_every: int = 0,
+    restart_every: int = 0,
 ) -> dict:
-    """The typed values every deck is rendered from (see templates/base.lmp.j2).
+    """The values of templates/base.lmp.j2 for ``model`` run at time step ``dt`` (us) with the
+    contact law ``contact``; a scene's own values are added on top.
 
-    ``restart_every`` (steps) writes LAMMPS restart files from the deck itself, for decks run
-    by plain ``lmp`` (the Python driver writes its own checkpoints).
+    ``skin`` (um): the neighbour skin, by default d/10 of the largest bead and at least 1 um;
+    the ghost cutoff is the largest diameter plus the skin plus ``bond_reach`` longest bonds
+    (a bead's diameter for a model without bonds). ``friction_pairs``: (type, type, mu)
+    1-based, pairs with a friction of their own; ``guards``: the stability guards (None:
+    none); ``dump_every``, ``restart_every``: steps between trajectory frames and restart
+    files (0: none).
     """
-    spec, model = run.spec, run.model
-    skin = neighbor_skin(spec, model)
-    longest_bond = max(t.r0 for t in model.bond_types)
+    d_max = float(model.diameter.max())
+    if skin is None:
+        skin = max(1.0, 0.1 * d_max)
+    longest_bond = max((t.r0 for t in model.bond_types), default=d_max)
     return {
         "version": __version__,
         "scene": scene,
         "data_file": data_file,
         "restart_file": None,
-        "contact": run.contact,
-        "friction_pairs": friction_pairs(spec, model),
+        "contact": contact,
+        "friction_pairs": list(friction_pairs),
         "angle_style": None if model.angle_style == "none" else model.angle_style,
-        "dt": run.time_step.dt,
+        "dt": float(dt),
         "skin": skin,
-        "comm_cutoff": float(model.diameter.max()) + skin + 1.5 * longest_bond,
-        "thermo_every": spec.numerics.thermo_every,
-        "guards": run.guards,
-        "dump_every": spec.output.dump_every_steps if scene != "verify" else 0,
+        "comm_cutoff": d_max + skin + bond_reach * longest_bond,
+        "thermo_every": thermo_every,
+        "guards": guards,
+        "dump_every": dump_every,
         "restart_every": restart_every,
     }
+
+
+def deck_context(
+    run: Prepared, scene: str, data_file: str = "model.data", restart_every: int = 0
+) -> dict:
+    """The typed values every scene deck is rendered from (:func:`base_context` of the run).
+
+    ``restart_every`` (steps) writes LAMMPS restart files from the deck itself, for decks run
+    by plain ``lmp`` (the Python driver writes its own checkpoints).
+    """
+    spec, model = run.spec, run.model
+    return base_context(
+        model,
+        run.time_step.dt,
+        run.contact,
+        scene,
+        data_file=data_file,
+        skin=neighbor_skin(spec, model),
+        thermo_every=spec.numerics.thermo_every,
+        friction_pairs=friction_pairs(spec, model),
+        guards=run.guards,
+        dump_every=spec.output.dump_every_steps if scene != "verify" else 0,
+        restart_every=restart_every,
+    )
 
 
 def render_deck(run: Prepared, name: str, plain_lmp: bool = False) -> Deck:

@@ -16,12 +16,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ... import __version__, units
+from ... import units
 from ...engine import Engine
 from ...io.datafile import write_data
 from ...io.deck import render
 from ...model import AtomType, BondType, Box, Model, Part, join
 from ...numerics import ContactLaw
+from ..deck import base_context
 
 __all__ = [
     "E_CARBON",
@@ -192,21 +193,9 @@ def contact(kn: float, mass: float, mu: float, damping_ratio: float = 0.3) -> Co
 
 
 def _base_values(model: Model, dt: float, law: ContactLaw, scene: str) -> dict:
-    """The values ``base.lmp.j2`` needs, sized to the model (skin d/10, bond-safe comm cutoff)."""
-    d_max = float(model.diameter.max())
-    skin = max(1.0, 0.1 * d_max)
-    r0_max = max((t.r0 for t in model.bond_types), default=d_max)
-    return {
-        "version": __version__,
-        "scene": scene,
-        "data_file": "model.data",
-        "restart_file": None,
-        "contact": law,
-        "dt": float(dt),
-        "skin": skin,
-        "comm_cutoff": d_max + skin + 2.0 * r0_max,
-        "thermo_every": 100000,
-    }
+    """The values ``base.lmp.j2`` needs (:func:`~ncf2lammps.scenes.deck.base_context`), sized to
+    the model: skin d/10, a ghost cutoff two bonds past a bead, no guards, no output files."""
+    return base_context(model, dt, law, scene, bond_reach=2.0)
 
 
 @contextmanager

@@ -1,0 +1,136 @@
+"""Granular walls follow the pairs' contact law, hooke and hertz alike.
+
+``fix wall/gran/region granular hertz/material E ...`` (LAMMPS GRANULAR) presses a sphere of
+radius R with ``F = 4/3 E / (2 (1 - nu^2)) sqrt(R delta) delta``: the effective modulus of two
+bodies of modulus E, the pairs' own, on a flat (R* = R). The compaction plates take the pairs'
+arguments (templates/contact_law.lmp.j2), and ``f_wall[4]`` of ``contacts`` is the z force on
+each bead in contact.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+from conftest import case_spec, tiny_spec
+
+from ncf2lammps import build, run_scenes
+from ncf2lammps.engine import Engine
+from ncf2lammps.io.lammpslog import read_ave_time
+from ncf2lammps.io.results import read_results
+from ncf2lammps.numerics import prepare
+from ncf2lammps.scenes import render_deck
+
+#: A quarter of the mat-only cell, closed fast to Vf 0.62: both plates carry the mat.
+HERTZ_MAT = {
+    "cell": {"length_mm": 1.4, "width_mm": 1.27},
+    "contact": {"normal_model": "hertz"},
+    "compaction": {"inertial_number": 0.5, "final_fvf": 0.62},
+}
+
+_PLATE = re.compile(
+    r"^fix\s+wall_(top|bottom)\s+all\s+wall/gran/region\s+granular\s+(.*?)\s+region\s", re.M
+)
+_PAIR = re.compile(r"^pair_coeff[ \t]+\* \*[ \t]+(\S.*)$", re.M)
+
+
+def _laws(deck: str) -> tuple[dict[str, str], str]:
+    """({plate: wall law arguments}, pair law arguments) of a compaction deck."""
+    return dict(_PLATE.findall(deck)), _PAIR.search(deck).group(1)
+
+
+def test_plates_take_the_pair_law_hooke_and_hertz():
+    """Rendered decks only: the plates' arguments are those of the pairs' ``pair_coeff * *``
+    (pair_style granular: a hertz mat; a stitched hooke cell with a fibre-stitch friction of
+    its own), for hertz a hertz/material law, not a hooke stiffness of the modulus."""
+    for spec, law in (
+        (case_spec("mat-only").replace(contact={"normal_model": "hertz"}), "hertz/material "),
+        (tiny_spec(contact={"fibre_stitch_friction": 0.2}), "hooke "),
+    ):
+        run = prepare(spec)
+        plates, pair = _laws(render_deck(run, "compaction").text)
+        assert sorted(plates) == ["bottom", "top"]
+        assert plates["top"] == plates["bottom"] == pair
+        assert pair.startswith(law + f"{run.contact.normal!r} {run.contact.damping!r} ")
+
+
+@pytest.mark.lammps
+def test_one_bead_on_a_plate_feels_the_hertz_force(tmp_path):
+    """One bead (d = 100 um) pressed 0.1 um into the bottom plate and one into the top plate
+    (a plane region moving like the compaction's), and two beads overlapping by 0.1 um, with the
+    hertz arguments of a compaction deck: the plate force is 4/3 E* sqrt(R delta) delta with the
+    pairs' E* = E/2 (nu = 0), and f_wall[4] reads it (the pair force has R* = R/2)."""
+    run = prepare(case_spec("mat-only").replace(contact={"normal_model": "hertz"}))
+    plates, pair = _laws(render_deck(run, "compaction").text)
+    radius, delta, modulus = 50.0, 0.1, run.contact.normal
+    (tmp_path / "in.lmp").write_text(
+        f"""
+units           micro
+boundary        p p f
+atom_style      sphere
+atom_modify     map array
+comm_modify     vel yes
+region          box block -500 500 -500 500 -200 400
+create_box      1 box
+create_atoms    1 single 0.0 0.0 {radius - delta}
+create_atoms    1 single 200.0 0.0 {200.0 + delta - radius}
+create_atoms    1 single -200.0 0.0 100.0
+create_atoms    1 single {-200.0 + 2 * radius - delta} 0.0 100.0
+set             group all diameter {2 * radius} density 1.8
+group           low id 1
+group           high id 2
+pair_style      granular
+pair_coeff      * * {pair}
+region          plate_bottom plane 0.0 0.0 0.0 0.0 0.0 1.0 units box
+variable        drop equal 0.0*time
+region          plate_top plane 0.0 0.0 200.0 0.0 0.0 -1.0 move NULL NULL v_drop units box
+fix             wall_bottom low wall/gran/region granular {plates["bottom"]} region plate_bottom contacts
+fix             wall_top high wall/gran/region granular {plates["top"]} region plate_top contacts
+compute         force_bottom all reduce sum f_wall_bottom[4]
+compute         force_top all reduce sum f_wall_top[4]
+compute         contacts all reduce sum f_wall_bottom[1] f_wall_top[1]
+variable        force_bottom equal c_force_bottom
+variable        force_top equal -c_force_top
+variable        contacts equal c_contacts[1]+c_contacts[2]
+variable        pair equal fx[3]
+variable        fz1 equal fz[1]
+thermo_style    custom step v_force_bottom v_force_top v_contacts v_pair v_fz1
+run             0
+"""
+    )
+    with Engine(tmp_path, log=None) as engine:
+        engine.file("in.lmp")
+        value = engine.variable
+        e_star = modulus / 2.0
+        wall = 4.0 / 3.0 * e_star * math.sqrt(radius * delta) * delta
+        pair_force = 4.0 / 3.0 * e_star * math.sqrt(radius / 2.0 * delta) * delta
+        assert value("contacts") == 2.0
+        assert value("force_bottom") == pytest.approx(wall, rel=1e-9)
+        assert value("force_top") == pytest.approx(wall, rel=1e-9)
+        assert value("fz1") == pytest.approx(wall, rel=1e-9)
+        assert -value("pair") == pytest.approx(pair_force, rel=1e-9)
+
+
+@pytest.mark.lammps
+def test_hertz_compaction_loads_both_plates(tmp_path):
+    """A hertz mat closed to Vf 0.62: the deck's plates use hertz/material with the pairs'
+    arguments; the recorded plate forces are never negative, both plates carry the mat and
+    agree once loaded (work-weighted mismatch < 10 %), and the pressure rises by more than
+    tenfold from the first record that loads the bottom plate."""
+    spec = case_spec("mat-only").replace(**HERTZ_MAT)
+    folder = build(spec, tmp_path / "run").directory
+    group = read_results(run_scenes(spec, folder, ["compaction"]))["compaction"]
+    plates, pair = _laws((folder / "decks" / "in.compaction.lmp").read_text())
+    assert plates["top"] == plates["bottom"] == pair and pair.startswith("hertz/material ")
+    history = read_ave_time(folder / "compaction.history.txt")
+    top, bottom, pressure = history["v_force_top"], history["v_force_bottom"], history["v_pressure"]
+    assert np.all(top >= 0.0) and np.all(bottom >= 0.0)
+    assert top.max() > 0.0 and bottom.max() > 0.0
+    assert group["attrs"]["plate_force_imbalance"] < 0.1
+    first = int(np.argmax(bottom > 0.0))
+    assert pressure[-1] > 10.0 * pressure[first] > 0.0
+    assert group["attrs"]["reached_fvf"] == pytest.approx(
+        HERTZ_MAT["compaction"]["final_fvf"], rel=0.05
+    )
