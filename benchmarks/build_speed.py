@@ -1,6 +1,6 @@
 """Seconds from spec to data file on disk: the paper's cell and a ~1M-bead cell (JSON on stdout).
 
-Target (issue 2): 1M beads in <= 5 s on the 2-core development machine. Each figure is the median
+Target: 1M beads in <= 5 s on the 2-core development machine. Each figure is the median
 of ``--repeat`` runs.
 
     python benchmarks/build_speed.py [--repeat 3]

@@ -1,6 +1,6 @@
 """Python driver against plain ``lmp``: atom-steps/s of the same deck on 1 rank (JSON on stdout).
 
-Target (issue 9): driver / lmp >= 0.95. Each figure is the median of ``--repeat`` runs; both
+Target: driver / lmp >= 0.95. Each figure is the median of ``--repeat`` runs; both
 paths include LAMMPS start-up and reading the data file.
 
     python benchmarks/engine_overhead.py [--repeat 3] [--chunk 5000]

@@ -1,6 +1,6 @@
 """Strong scaling of plain ``lmp`` on the paper's cell: 1 against 2 MPI ranks (JSON on stdout).
 
-Target (issue 9): parallel efficiency (rate at 2 ranks) / (2 x rate at 1 rank) >= 0.85. Each
+Target: parallel efficiency (rate at 2 ranks) / (2 x rate at 1 rank) >= 0.85. Each
 figure is the median of ``--repeat`` runs of the same deck for the same steps.
 
     python benchmarks/scaling.py [--repeat 3] [--ranks 1 2]

@@ -1,7 +1,7 @@
 """The paper's cell end to end: manufacture, compaction to Vf 0.67, shear to 45 deg, with the
 settings of runs/hpt310/spec.toml (JSON on stdout).
 
-Target (issue 9): <= 20 min in total on the 2-core machine. Reports wall time and steps per
+Target: <= 20 min in total on the 2-core machine. Reports wall time and steps per
 scene and the quasi-static checks (kinetic ratios against their targets, stitch tension error).
 
     python benchmarks/time_to_solution.py [-o DIR] [--np N]

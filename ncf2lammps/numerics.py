@@ -1,7 +1,7 @@
 """Time step and stability limits derived from the model's stiffnesses and masses.
 
 Velocity Verlet on a spring of stiffness ``k`` between beads of mass ``m`` is stable for
-``dt < sqrt(m / k)`` in a chain (highest mode ``2 sqrt(k/m)``). Measured here (DESIGN 8): a pulled
+``dt < sqrt(m / k)`` in a chain (highest mode ``2 sqrt(k/m)``). Measured here (docs/design.md §8): a pulled
 chain stayed stable up to 1.0 sqrt(m/k), two crossing plies up to 0.8; so the stable fraction is
 :data:`STABLE_FRACTION` and the default is ``dt_fraction = 0.5`` of the smallest limit, where
 ``k`` covers every bond type (``k = EA / r0 = 2 K``) and the contact law at its expected overlap.
@@ -55,7 +55,7 @@ __all__ = [
     "time_step",
 ]
 
-#: Guard thresholds (DESIGN 8): a bead moving this fraction of the smallest diameter in one step,
+#: Guard thresholds (docs/design.md §8): a bead moving this fraction of the smallest diameter in one step,
 #: a bond this much longer than the longest rest length, a contact overlapping this fraction of
 #: the smallest diameter (hooke estimate F / k_n) mean the integration has gone unstable. The
 #: overlap limit is one whole small diameter (beads passing through each other): plates closing
@@ -74,7 +74,7 @@ GUARD_MAX_OVERLAP = 1.0
 GUARD_MAX_KINETIC_JUMP = 50.0
 GUARD_KINETIC_FLOOR_STEP_MOVE = 3.0e-4
 
-#: Largest dt / sqrt(m/k) measured stable for crossing plies (DESIGN 8).
+#: Largest dt / sqrt(m/k) measured stable for crossing plies (docs/design.md §8).
 STABLE_FRACTION = 0.8
 
 #: Contacts a bead carries at once in the stability bound: the manufactured coarse cell has at

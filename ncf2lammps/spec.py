@@ -209,7 +209,9 @@ class DiscretisationSpec:
     """Chain diameter (before the volume-conserving correction per ply) and bead spacing."""
 
     chain_diameter_um: float = _f(69.0, 1.0, 5000.0, unit="um", source="paper reference model")
-    bead_spacing_ratio: float = _f(0.5, 0.2, 1.0, unit="s/d", source="DESIGN 5: roughness 0.134 R")
+    bead_spacing_ratio: float = _f(
+        0.5, 0.2, 1.0, unit="s/d", source="docs/design.md §5: roughness 0.134 R"
+    )
     chain_internal_fvf: float = _f(
         1.0,
         0.5,
@@ -272,7 +274,9 @@ class ContactSpec:
 class NumericsSpec:
     """Time step, mass scaling and neighbour settings shared by every scene."""
 
-    dt_fraction: float = _f(0.5, 0.0, 2.0, lo_open=True, unit="sqrt(m/k)", source="DESIGN 8")
+    dt_fraction: float = _f(
+        0.5, 0.0, 2.0, lo_open=True, unit="sqrt(m/k)", source="docs/design.md §8"
+    )
     allow_unstable_dt: bool = _f(False, source="refuse dt above the stability limit")
     mass_scaling: float = _f(1.0, 1.0, 1e6, unit="-", source="docs/performance.md")
     fibre_stiffness_scaling: float = _f(1.0, 1e-4, 1.0, unit="-", source="docs/performance.md")
@@ -298,9 +302,19 @@ class ManufactureSpec:
     stitch_damping_time_us: float | None = _f(
         None, 0.01, 1e6, unit="us", source="None: damping_time_us; docs/manufacture.md"
     )
-    tension_tolerance: float = _f(0.01, 1e-4, 0.2, unit="-", source="issue 3: within 5 %")
+    tension_tolerance: float = _f(
+        0.01,
+        1e-4,
+        0.2,
+        unit="-",
+        source="convergence tolerance: the stitch tension within 1 % of its target",
+    )
     kinetic_ratio_target: float = _f(
-        1e-3, 1e-9, 0.5, unit="-", source="kinetic energy / pretension work; DESIGN 8: < 1 %"
+        1e-3,
+        1e-9,
+        0.5,
+        unit="-",
+        source="kinetic energy / pretension work; docs/design.md §8: < 1 %",
     )
     max_ramp_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
     max_relax_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
@@ -327,7 +341,7 @@ class CompactionSpec:
         source="None: stop at final_fvf only; above the 18 kPa reported",
     )
     reference_pressure_kPa: float = _f(1.0, 1e-3, 1e4, unit="kPa", source="DIN ISO 5084")
-    kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="DESIGN 8: < 1 %")
+    kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="docs/design.md §8: < 1 %")
     record_every_um: float = _f(1.0, 1e-3, 1e3, unit="um", source="gap resolution of the curve")
 
 
@@ -340,7 +354,7 @@ class ShearSpec:
         None, 1e-9, 1.0, unit="deg/us", source="None: from inertial_number"
     )
     inertial_number: float = _f(0.025, 1e-5, 1.0, unit="-", source="docs/shear.md")
-    kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="DESIGN 8: < 1 %")
+    kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="docs/design.md §8: < 1 %")
     fibre_pretension_N_m: float = _f(
         0.0, 0.0, 1000.0, unit="N/m", source="per unit width of each ply; paper frame: 22"
     )

@@ -1,5 +1,5 @@
 """Example generate-and-run script: is compaction quasi-static? Halve the plate speed on the same
-manufactured cell and compare the thickness at 1 and 18 kPa (DESIGN 8: < 3 %).
+manufactured cell and compare the thickness at 1 and 18 kPa (docs/design.md §8: < 3 %).
 
     python runs/compaction_rate_check.py runs/hpt310-coarse/spec.toml out/rate-check
 """

@@ -90,26 +90,34 @@ def assert_model_invariants(spec, model):
     assert np.all(distances[keep] >= 0.99 * contact[keep])
 
 
-@pytest.fixture(scope="session")
+#: Values made once per test run and shared by the tests that ask for them.
+_ONCE: dict[str, object] = {}
+
+
+@pytest.fixture(scope="module")
 def case_models():
-    """{case: (spec, model)} of the three committed cases, built once."""
+    """{case: (spec, model)} of the three committed cases, built once per test run."""
     from ncf2lammps import build_model
 
-    return {name: (case_spec(name), build_model(case_spec(name))) for name in CASES}
+    if "case_models" not in _ONCE:
+        _ONCE["case_models"] = {n: (case_spec(n), build_model(case_spec(n))) for n in CASES}
+    return _ONCE["case_models"]
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def coarse_manufactured(tmp_path_factory):
-    """Folder of the coarse case after ``run --scene manufacture`` (run once per session).
+    """Folder of the coarse case after ``run --scene manufacture`` (run once per test run).
 
     Tests that run further scenes copy it (:func:`copy_run`) so that each starts from the same
     manufactured state.
     """
     from ncf2lammps import run
 
-    folder = tmp_path_factory.mktemp("coarse") / "run"
-    run(case_spec("hpt310-coarse"), folder, scenes=["manufacture"])
-    return folder
+    if "coarse_manufactured" not in _ONCE:
+        folder = tmp_path_factory.mktemp("coarse") / "run"
+        run(case_spec("hpt310-coarse"), folder, scenes=["manufacture"])
+        _ONCE["coarse_manufactured"] = folder
+    return _ONCE["coarse_manufactured"]
 
 
 def copy_run(folder: Path, destination: Path) -> Path:

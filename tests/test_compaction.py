@@ -1,4 +1,4 @@
-"""Compaction scene (issue 4): plates close on the manufactured coarse cell."""
+"""Compaction scene: plates close on the manufactured coarse cell."""
 
 from __future__ import annotations
 

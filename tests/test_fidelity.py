@@ -1,4 +1,4 @@
-"""Model options beyond the paper (issue 10, docs/fidelity.md): each off by default, each a law.
+"""Model options beyond the paper (docs/fidelity.md): each off by default, each a law.
 
 Laws checked here: fibre mass and volume conserved by every option (areal weight and Vf to
 1e-9); chain internal Vf: ``n fill pi d^2 / 4`` = fibre cross-section and ``EA = E A_fibre``;

@@ -1,9 +1,9 @@
-"""HPC (issue 8): the exported bundle under plain `mpiexec -n 2 lmp`, 1 against 2 MPI ranks,
+"""HPC: the exported bundle under plain `mpiexec -n 2 lmp`, 1 against 2 MPI ranks,
 and a run killed mid-scene then resumed from its checkpoint, each against a Python-driven run.
 
 All on the coarse case with fast loading (inertial number 0.1 for compaction, 0.2 for shear,
 compaction to Vf 0.5, shear to 20 deg) and checkpoints and dumps every 20,000 steps; the
-manufacture settings are the case's, so the Python reference starts from the session's
+manufacture settings are the case's, so the Python reference starts from the test run's shared
 manufactured cell. At 45 deg this rate trips the overlap guard, so the shear force compared is
 F_N averaged over the last quarter of the angle range (15-20 deg): a single record interval
 at one angle scatters by ~7 % between manufactured cells that differ only by round-off, the
@@ -57,7 +57,7 @@ def cli(*args, **kwargs):
 
 @pytest.fixture(scope="module")
 def reference(coarse_manufactured, tmp_path_factory):
-    """Python-driven compaction and shear on one rank from the session's manufactured cell."""
+    """Python-driven compaction and shear on one rank from the test run's shared manufactured cell."""
     folder = copy_run(coarse_manufactured, tmp_path_factory.mktemp("reference") / "run")
     return read_results(run_scenes(fast_spec(), folder, ["compaction", "shear"]))
 

@@ -1,4 +1,4 @@
-"""Manufacture scene on the coarse case, end to end (issue 3)."""
+"""Manufacture scene on the coarse case, end to end."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Invariants of the generated mat and stitch (DESIGN 5, issue 2)."""
+"""Invariants of the generated mat and stitch (docs/design.md §5)."""
 
 from __future__ import annotations
 

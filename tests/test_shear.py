@@ -1,4 +1,4 @@
-"""Shear scene (issue 5): picture-frame kinematics on the periodic box, normalised shear force."""
+"""Shear scene: picture-frame kinematics on the periodic box, normalised shear force."""
 
 from __future__ import annotations
 
@@ -48,7 +48,7 @@ def frictionless_mat(tmp_path_factory):
 
 
 def test_frictionless_pretensioned_mat_has_no_shear_force(frictionless_mat):
-    """Straight chains keep their length under picture-frame kinematics: F_N = 0 (DESIGN 7).
+    """Straight chains keep their length under picture-frame kinematics: F_N = 0 (docs/design.md §7).
 
     Scale: N0 = 22 N/m, the pretension per unit width of each ply (chain tension times chains
     per width); the pretension itself is checked in the virial, N_yy = -Pyy lz = N0 at g = 0.

@@ -1,4 +1,4 @@
-"""``study`` (issue 6): a grid of knobs, errors against the reference, the Pareto front."""
+"""``study``: a grid of knobs, errors against the reference, the Pareto front."""
 
 from __future__ import annotations
 

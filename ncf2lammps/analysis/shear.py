@@ -1,6 +1,6 @@
 """Picture-frame shear curves: normalised shear force against shear angle (pure numpy).
 
-Kinematics (DESIGN 7): edge a = La e_x, edge b = Lb (sin g, cos g), so ``xy = Lb sin g``,
+Kinematics (docs/design.md §7): edge a = La e_x, edge b = Lb (sin g, cos g), so ``xy = Lb sin g``,
 ``ly = Lb cos g``. The normalised picture-frame force is the power per unit current area per
 unit shear rate, from the virial stress (``compute pressure NULL virial``, kPa):
 ``F_N = -(Pxy - Pyy xy / ly) lz``; independently, from the work of the box on the cell over a

@@ -14,7 +14,7 @@ Stages, in order (templates/manufacture.lmp.j2 marks each with ``# stage:``):
    the mean stitch tension reaches the target (the paper's negative thermal load).
 4. ``relaxation``: an integral controller (``fix controller``) trims the strain to hold the target
    while the cell relaxes; stops when the windowed tension error and the kinetic ratio (kinetic
-   energy / work the shrinking stitch has done since the ramp began, DESIGN 8) are below their
+   energy / work the shrinking stitch has done since the ramp began, docs/design.md §8) are below their
    thresholds; writes ``manufactured.restart`` and ``manufactured.data``.
 """
 

@@ -77,7 +77,7 @@ def shear_rate(spec: FabricSpec, model: Model) -> float:
     is ``shear.inertial_number`` with P = :data:`REFERENCE_PRESSURE_KPA`, d the mean fibre bead
     diameter and rho the fibre density. Measured on the coarse case: I = 0.1 gave a largest
     kinetic / external work of 4.3 %, I = 0.05 1.3 % (docs/shear.md); the default 0.025 aims
-    below the 1 % of DESIGN 8.
+    below the 1 % of docs/design.md §8.
     """
     settings = spec.shear
     if settings.shear_rate_deg_us is not None:

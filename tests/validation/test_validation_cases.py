@@ -1,4 +1,4 @@
-"""Validation cases run in LAMMPS and judged against their laws (DESIGN 9).
+"""Validation cases run in LAMMPS and judged against their laws (docs/design.md §9).
 
 The fast forms run in CI; ``full`` forms (all angles, spacings, longer records) are ``slow``.
 Each test asserts the law with the tolerance stated in the case's docstring.
@@ -103,7 +103,7 @@ def test_packing_limit(tmp_path):
 
 
 def test_roughness_estimate_matches_design():
-    """DESIGN 6: 1 + (1 + mu^2) s^2 / (12 d^2) at s = d/2, mu = 0.3."""
+    """docs/design.md §6: 1 + (1 + mu^2) s^2 / (12 d^2) at s = d/2, mu = 0.3."""
     assert roughness_estimate(69.0 / 2) == pytest.approx(1 + 1.09 / 48)
 
 

@@ -1,6 +1,6 @@
 """Analytical validation suite: small cells run in LAMMPS and compared with physical laws.
 
-Cases (DESIGN 9), one module each; every module's docstring states its law, configuration,
+Cases (docs/design.md §9), one module each; every module's docstring states its law, configuration,
 tolerance and source, and its ``run(workdir, full)`` returns a
 :class:`~ncf2lammps.scenes.validation.common.CaseResult`. :func:`run_validation` runs a selection,
 prints the table and writes ``<output>/validation.md`` with the plots.

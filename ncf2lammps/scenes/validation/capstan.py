@@ -15,9 +15,9 @@ waves; the tension it adds is measured with T1). The pulled end is held while th
 settles, then moved along its tangent at 1e-4 c (speed ramped in), so the centrifugal term
 ``rho A v^2`` is 1e-5 T1. T1 and T2 are the tensions of a bond in each straight tail, averaged
 over 4 bead passages once the pulled end has travelled the elastic take-up
-``R theta eps (e^(mu theta) - 1) / (mu theta)`` plus one bead spacing (DESIGN 9).
+``R theta eps (e^(mu theta) - 1) / (mu theta)`` plus one bead spacing (docs/design.md §9).
 
-Tolerance: 1 % at every angle (DESIGN 9 reached 0.05 % with raw LAMMPS).
+Tolerance: 1 % at every angle (docs/design.md §9 reached 0.05 % with raw LAMMPS).
 """
 
 from __future__ import annotations

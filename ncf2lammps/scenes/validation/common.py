@@ -39,7 +39,7 @@ __all__ = [
 
 #: Chain diameter of the paper (um).
 D = 69.0
-#: Carbon fibre density (pg/um^3) and axial modulus (kPa), DESIGN 7.
+#: Carbon fibre density (pg/um^3) and axial modulus (kPa), docs/design.md §7.
 RHO_CARBON = units.to_micro(1.80, "g_cm3")
 E_CARBON = units.to_micro(240.0, "GPa")
 #: Coulomb friction of the paper.
@@ -113,7 +113,7 @@ def fibre(
 ) -> tuple[AtomType, BondType, float]:
     """Atom type, bond type (``K = E A / (2 s)``) and bead density of a cylinder-equivalent chain.
 
-    The bead density makes the mass per length ``rho pi d^2 / 4`` (DESIGN 5).
+    The bead density makes the mass per length ``rho pi d^2 / 4`` (docs/design.md §5).
     """
     area = np.pi * diameter**2 / 4.0
     atom = AtomType(name, "fibre", diameter, rho, modulus)
@@ -186,7 +186,7 @@ def contact(kn: float, mass: float, mu: float, damping_ratio: float = 0.3) -> Co
     """Hooke contact: stiffness ``kn`` (nN/um), damping ratio of a pair of beads of ``mass`` (pg).
 
     ``damping mass_velocity`` takes eta (1/us) with force ``eta m_eff v``, ``m_eff = m / 2``:
-    ``eta = 2 zeta sqrt(kn / m_eff)``; tangential stiffness 2/7 kn (DESIGN 6, spec default).
+    ``eta = 2 zeta sqrt(kn / m_eff)``; tangential stiffness 2/7 kn (docs/design.md §6, spec default).
     """
     eta = 2.0 * damping_ratio * np.sqrt(kn / (mass / 2.0))
     return ContactLaw("hooke", float(kn), float(kn), float(eta), float(2.0 / 7.0 * kn), float(mu))

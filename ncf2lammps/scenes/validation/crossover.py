@@ -1,6 +1,6 @@
 """Case 5, crossover springs: picture-frame shear of a 0/90 cell with torsional crossovers.
 
-Law (DESIGN 7): F_N is the power per unit current area per unit shear rate. A cell of ``n``
+Law (docs/design.md §7): F_N is the power per unit current area per unit shear rate. A cell of ``n``
 crossings, each a torsional spring ``E = K (theta - theta0)^2`` on the angle between its two
 chains (theta0 = 90 deg), follows ``theta = 90 deg - g`` under ``a = La e_x, b = Lb (sin g,
 cos g)``, so the stored energy is ``W = n K g^2``, the moment per crossing ``M = 2 K g`` and

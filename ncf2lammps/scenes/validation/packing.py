@@ -2,7 +2,7 @@
 
 Law: parallel cylinders of diameter d pack at most hexagonally, ``Vf = pi / (2 sqrt 3) = 0.9069``
 (Lagrange 1773 / Thue 1910 for circles in the plane); a frictionless bundle compressed
-laterally locks there (DESIGN 9). Vf uses the cylinder-equivalent volume. Beads of neighbouring
+laterally locks there (docs/design.md §9). Vf uses the cylinder-equivalent volume. Beads of neighbouring
 chains that are not side by side nest: with the three sublattices of the hexagonal lattice
 shifted by s/3 along the chains, touching axes sit ``d sqrt(1 - (s / 3d)^2)`` apart and the
 bundle locks at ``0.9069 / (1 - (s / 3d)^2)`` = 0.9328 at s = d/2 (geometric).

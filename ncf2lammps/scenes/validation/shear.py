@@ -1,6 +1,6 @@
 """Case 5: shear identities of a periodic cell under picture-frame kinematics.
 
-Laws (DESIGN 7): the normalised picture-frame force is the power per unit current area per unit
+Laws (docs/design.md §7): the normalised picture-frame force is the power per unit current area per unit
 shear rate, ``F_N = N_xy - N_yy tan g`` with membrane forces from the virial stress:
 ``F_N = -(Pxy - Pyy xy / ly) lz`` (``compute pressure NULL virial``). (a) A frictionless 0/90
 cell of pretensioned straight chains keeps every chain length under ``xy = Lb sin g,

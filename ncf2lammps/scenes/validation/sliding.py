@@ -3,12 +3,12 @@
 Law: Amontons-Coulomb ``F = mu N`` for steady sliding (independent of area and speed); mu = 0
 gives F = 0. A chain of beads is not a smooth cylinder: a bead riding over a row of beads at
 spacing s sees its contact normal tilt by up to ``asin(s / 2d)``; averaging ``tan(phi + alpha)``
-over uniformly distributed contact points gives the quasi-static estimate (DESIGN 6, 9)
+over uniformly distributed contact points gives the quasi-static estimate (docs/design.md §6, §9)
 ``F / (mu N) = 1 + (1 + mu^2) s^2 / (12 d^2)``: +0.6 % at s = d/4, +2.3 % at d/2, +9.1 % at d.
 
 Configuration: carbon chains d = 69 um (E 240 GPa, 1.80 g/cm3), hooke contact k_n = 1e5 N/m
 (spec default), k_t = 2/7 k_n, damping ratio 0.3 (``mass_velocity``, ``limit_damping``),
-``fix nve`` (no rolling, DESIGN 6), normal load = k_n x 0.5 % d per contacting bead.
+``fix nve`` (no rolling, docs/design.md §6), normal load = k_n x 0.5 % d per contacting bead.
 (a) Flat wall: a 30-bead chain (s = d/2) on ``fix wall/gran/region`` (plane z = 0), each bead
 loaded by ``fix addforce``, pulled along its axis at 1 m/s by a tractor bead (not touching the
 wall) bonded to its front; F = the force on the tractor, averaged over the last half of a 2 d
@@ -21,7 +21,7 @@ s = d/4, d (reported against the estimate); averages over whole bump periods aft
 phase, nested in the grooves).
 
 Tolerance: wall 0.5 % (|F/N| < 1e-3 at mu = 0); chain on chain at s = d/2 F/(mu N) in
-[1.00, 1.05] (DESIGN 9).
+[1.00, 1.05] (docs/design.md §9).
 """
 
 from __future__ import annotations
@@ -55,7 +55,7 @@ OVERLAP = 0.005 * D
 
 
 def roughness_estimate(spacing: float, mu: float = MU) -> float:
-    """Quasi-static F/(mu N) of a bead riding over beads at ``spacing`` (um), DESIGN 6."""
+    """Quasi-static F/(mu N) of a bead riding over beads at ``spacing`` (um), docs/design.md §6."""
     return 1.0 + (1.0 + mu**2) * spacing**2 / (12.0 * D**2)
 
 
