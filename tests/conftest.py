@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from pathlib import Path
 
@@ -9,9 +10,37 @@ import numpy as np
 import pytest
 from MDAnalysis.lib.distances import self_capped_distance
 
+import ncf2lammps.orchestration.run as orchestration_run
 from ncf2lammps import load_spec, spec_from_dict
+from ncf2lammps.engine import Engine
 
 ROOT = Path(__file__).resolve().parent.parent
+
+#: Whether the test being set up or run carries the ``lammps`` marker.
+_MARKED = [True]
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_setup(item):
+    """Before a test's fixtures are made: note whether it may start LAMMPS."""
+    _MARKED[0] = item.get_closest_marker("lammps") is not None
+
+
+def _needs_marker(start):
+    """``start`` (a way of starting LAMMPS in this process or a scene's process) fails in a test
+    without the ``lammps`` marker, so that every test that starts LAMMPS says so."""
+
+    @functools.wraps(start)
+    def guarded(*args, **kwargs):
+        if not _MARKED[0]:
+            raise AssertionError("this test starts LAMMPS: mark it @pytest.mark.lammps")
+        return start(*args, **kwargs)
+
+    return guarded
+
+
+Engine.__enter__ = _needs_marker(Engine.__enter__)
+orchestration_run._execute = _needs_marker(orchestration_run._execute)
 CASES = ("hpt310", "hpt310-coarse", "mat-only")
 GOLDEN = ROOT / "tests" / "golden"
 UPDATE = os.environ.get("NCF2LAMMPS_UPDATE_GOLDEN") == "1"
