@@ -145,14 +145,21 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, text + "\n")
 
 
-def parser() -> argparse.ArgumentParser:
-    """The argument parser (one sub-command per verb)."""
-    top = _Parser(
-        prog="ncf2lammps",
-        description="Digital-chain models of stitched non-crimp fabrics on LAMMPS.",
-    )
-    top.add_argument("--version", action="version", version=f"ncf2lammps {__version__}")
-    verbs = top.add_subparsers(dest="verb", required=True, metavar="VERB")
+def _spec_and_output(command, output_help: str = "output folder (new or empty)") -> None:
+    command.add_argument("spec", help="spec TOML file")
+    command.add_argument("-o", "--output", required=True, help=output_help)
+
+
+def _force(command) -> None:
+    command.add_argument("--force", action="store_true", help="replace a non-empty folder")
+
+
+def _ranks(command, default: int, help_text: str) -> None:
+    command.add_argument("--np", type=int, default=default, metavar="N", help=help_text)
+
+
+def _model_verbs(verbs) -> None:
+    """check, build, run, export: the verbs that make a model from a spec."""
     check = verbs.add_parser(
         "check", help="validate a spec; print sizes, stiffnesses and the time step"
     )
@@ -161,23 +168,19 @@ def parser() -> argparse.ArgumentParser:
     build_cmd = verbs.add_parser(
         "build", help="write model.data, spec.resolved.toml and decks into a folder"
     )
-    build_cmd.add_argument("spec", help="spec TOML file")
-    build_cmd.add_argument("-o", "--output", required=True, help="output folder (new or empty)")
-    build_cmd.add_argument("--force", action="store_true", help="replace a non-empty folder")
+    _spec_and_output(build_cmd)
+    _force(build_cmd)
     build_cmd.set_defaults(func=_build)
     run_cmd = verbs.add_parser("run", help="build, then run scenes in order; write results.h5")
-    run_cmd.add_argument("spec", help="spec TOML file")
-    run_cmd.add_argument("-o", "--output", required=True, help="output folder (new or empty)")
+    _spec_and_output(run_cmd)
     run_cmd.add_argument(
         "--scene",
         action="append",
         choices=list(SCENES),
         help="scene to run (repeat; default: all the spec supports)",
     )
-    run_cmd.add_argument("--force", action="store_true", help="replace a non-empty folder")
-    run_cmd.add_argument(
-        "--np", type=int, default=1, metavar="N", help="MPI ranks (mpiexec; default 1)"
-    )
+    _force(run_cmd)
+    _ranks(run_cmd, 1, "MPI ranks (mpiexec; default 1)")
     run_cmd.add_argument(
         "--resume", action="store_true", help="continue a killed run in -o from its checkpoints"
     )
@@ -185,27 +188,27 @@ def parser() -> argparse.ArgumentParser:
     export_cmd = verbs.add_parser(
         "export", help="HPC bundle for plain `mpirun -np N lmp -in in.run_all.lmp`"
     )
-    export_cmd.add_argument("spec", help="spec TOML file")
-    export_cmd.add_argument("-o", "--output", required=True, help="output folder (new or empty)")
-    export_cmd.add_argument(
-        "--np", type=int, default=2, metavar="N", help="MPI ranks in job.slurm (default 2)"
-    )
+    _spec_and_output(export_cmd)
+    _ranks(export_cmd, 2, "MPI ranks in job.slurm (default 2)")
     export_cmd.add_argument(
         "--time", default="24:00:00", help="Slurm wall time [D-]HH:MM:SS (default 24:00:00)"
     )
     export_cmd.add_argument(
         "--module", action="append", help="module to load in job.slurm (repeat)"
     )
-    export_cmd.add_argument("--force", action="store_true", help="replace a non-empty folder")
+    _force(export_cmd)
     export_cmd.set_defaults(func=_export)
+
+
+def _folder_verbs(verbs) -> None:
+    """report, study, validate: the verbs that read or fill folders of runs."""
     report = verbs.add_parser("report", help="figures/ and summary.md from a run's results.h5")
     report.add_argument("directory", help="run folder with results.h5")
     report.set_defaults(func=_report)
     study_cmd = verbs.add_parser(
         "study", help="run scenes over a grid of numerical knobs; error against wall time"
     )
-    study_cmd.add_argument("spec", help="spec TOML file")
-    study_cmd.add_argument("-o", "--output", required=True, help="study folder (new or a study's)")
+    _spec_and_output(study_cmd, "study folder (new or a study's)")
     study_cmd.add_argument(
         "--vary",
         action="append",
@@ -221,9 +224,7 @@ def parser() -> argparse.ArgumentParser:
     study_cmd.add_argument(
         "--tolerance", type=float, default=0.03, help="error tolerance (default 0.03)"
     )
-    study_cmd.add_argument(
-        "--np", type=int, default=1, metavar="N", help="MPI ranks per point (default 1)"
-    )
+    _ranks(study_cmd, 1, "MPI ranks per point (default 1)")
     study_cmd.set_defaults(func=_study)
     validate = verbs.add_parser(
         "validate", help="run the analytical validation cases; print and write the table"
@@ -232,6 +233,18 @@ def parser() -> argparse.ArgumentParser:
     validate.add_argument("--full", action="store_true", help="all cases (default: fast subset)")
     validate.add_argument("--case", action="append", help="run only this case (repeat)")
     validate.set_defaults(func=_validate)
+
+
+def parser() -> argparse.ArgumentParser:
+    """The argument parser (one sub-command per verb)."""
+    top = _Parser(
+        prog="ncf2lammps",
+        description="Digital-chain models of stitched non-crimp fabrics on LAMMPS.",
+    )
+    top.add_argument("--version", action="version", version=f"ncf2lammps {__version__}")
+    verbs = top.add_subparsers(dest="verb", required=True, metavar="VERB")
+    _model_verbs(verbs)
+    _folder_verbs(verbs)
     return top
 
 
