@@ -9,7 +9,12 @@ import numpy as np
 from .. import units
 from .energy import energy_balance_residual
 
-__all__ = ["CompactionCurve", "smooth"]
+__all__ = ["EXPERIMENT", "PAPER_MODEL_THICKNESS_1KPA_MM", "CompactionCurve", "smooth"]
+
+#: Experiment of the paper (rheometer, one layer, 10 um/s): (thickness mm, pressure kPa).
+EXPERIMENT = ((0.68, 1.0), (0.44, 18.0))
+#: Thickness at 1 kPa given by the paper's digital-chain model (mm).
+PAPER_MODEL_THICKNESS_1KPA_MM = 0.34
 
 
 def smooth(values: np.ndarray, window: int) -> np.ndarray:

@@ -18,11 +18,11 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import units
 from ..analysis.compaction import CompactionCurve
+from ..analysis.plots import plot_compaction
 from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import Prepared, inertial_strain_rate
@@ -30,16 +30,10 @@ from ..spec import FabricSpec
 from .base import Scene
 
 __all__ = [
-    "EXPERIMENT",
-    "PAPER_MODEL_THICKNESS_1KPA_MM",
     "SCENE",
     "plate_speed",
 ]
 
-#: Experiment of the paper (rheometer, one layer, 10 um/s): (thickness mm, pressure kPa).
-EXPERIMENT = ((0.68, 1.0), (0.44, 18.0))
-#: Thickness at 1 kPa given by the paper's digital-chain model (mm).
-PAPER_MODEL_THICKNESS_1KPA_MM = 0.34
 #: Pressures at which thickness is reported (kPa): DIN ISO 5084 and the rheometer maximum.
 REPORT_PRESSURES = (1.0, 18.0)
 
@@ -151,26 +145,10 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
 
 def figures(results: dict, directory: Path) -> list[Path]:
     """Pressure against thickness with the paper's experiment and model marked."""
-    group = results["compaction"]
-    attrs = group["attrs"]
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    ax.plot(group["gap_mm"], group["pressure_kPa"], lw=0.6, alpha=0.5, label="this run (raw)")
-    ax.plot(group["gap_mm"], group["pressure_smoothed_kPa"], lw=1.5, label="this run (smoothed)")
-    ax.plot(*zip(*EXPERIMENT, strict=True), "ks", label="experiment (paper)")
-    ax.plot([PAPER_MODEL_THICKNESS_1KPA_MM], [1.0], "r^", label="paper model at 1 kPa")
-    for t, p in ((attrs["thickness_at_1kPa_mm"], 1.0), (attrs["thickness_at_18kPa_mm"], 18.0)):
-        if math.isfinite(t):
-            ax.plot([t], [p], "o", mfc="none", mec="C1")
-    ax.set_yscale("log")
-    ax.set_ylim(0.05, max(100.0, float(np.nanmax(group["pressure_kPa"])) * 1.2))
-    ax.set_xlabel("thickness = plate gap (mm)")
-    ax.set_ylabel("pressure (kPa)")
-    ax.set_title(f"compaction at {attrs['plate_speed_m_s']:.3g} m/s")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
+    ax = plot_compaction(results)
+    ax.figure.tight_layout()
     path = directory / "figures" / "compaction.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    ax.figure.savefig(path, dpi=110)
     return [path]
 
 
