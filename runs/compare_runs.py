@@ -10,14 +10,10 @@ import argparse
 import csv
 from pathlib import Path
 
-import matplotlib
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-
+from ncf2lammps.analysis.plots import plot_compaction, plot_shear
 from ncf2lammps.io.results import read_results
-from ncf2lammps.scenes.compaction import EXPERIMENT, PAPER_MODEL_THICKNESS_1KPA_MM
-from ncf2lammps.scenes.shear import EXPERIMENT_FORCE_45DEG_N_PER_M, PAPER_MODEL_FORCE_45DEG_N_PER_M
 
 
 def labelled(value: str) -> tuple[str, Path]:
@@ -53,24 +49,13 @@ for label, folder in runs:
     if (folder / "results.h5").is_file():
         curves.append((label, read_results(folder / "results.h5")))
 sheared = any("shear" in data for _, data in curves)
-fig, axes = plt.subplots(1, 2 if sheared else 1, figsize=(11.0 if sheared else 7.0, 4.8))
-press, shear = (axes[0], axes[1]) if sheared else (axes, None)
+fig = Figure(figsize=(11.0 if sheared else 7.0, 4.8))
+axes = fig.subplots(1, 2 if sheared else 1, squeeze=False)[0]
 for label, data in curves:
     if "compaction" in data:
-        group = data["compaction"]
-        press.plot(group["gap_mm"], group["pressure_smoothed_kPa"], lw=1.2, label=label)
-    if shear is not None and "shear" in data:
-        group = data["shear"]
-        shear.plot(group["angle_deg"], group["force_N_per_m"], lw=1.0, label=label)
-press.plot(*zip(*EXPERIMENT, strict=True), "ks", ms=7, label="experiment (paper)")
-press.plot([PAPER_MODEL_THICKNESS_1KPA_MM], [1.0], "r^", ms=7, label="paper model at 1 kPa")
-press.set(yscale="log", ylim=(0.05, 100.0), xlabel="plate gap (mm)", ylabel="pressure (kPa)")
-press.legend(fontsize=7)
-if shear is not None:
-    shear.plot([45.0], [EXPERIMENT_FORCE_45DEG_N_PER_M], "ks", ms=7, label="experiment (paper)")
-    shear.plot([45.0], [PAPER_MODEL_FORCE_45DEG_N_PER_M], "r^", ms=7, label="paper model")
-    shear.set(xlabel="shear angle (deg)", ylabel="normalised shear force F_N (N/m)")
-    shear.legend(fontsize=7)
+        plot_compaction(data, axes[0], label=label)
+    if sheared and "shear" in data:
+        plot_shear(data, axes[1], label=label)
 fig.tight_layout()
 fig.savefig(args.output, dpi=110)
 print(f"wrote {args.output}")

@@ -94,10 +94,43 @@ def test_plates_stop_at_the_first_record_past_max_pressure(
     assert attrs["max_kinetic_ratio"] <= full["max_kinetic_ratio"] * (1 + 1e-12)
 
 
+def _linear_curve(gap, stiffness=2.0, kinetic=0.5, imbalance=0.1, window=5):
+    """CompactionCurve of plates closing on a linear spring from ``gap[0]`` (um), 0.01 kPa/um."""
+    gap = np.asarray(gap, dtype=float)
+    force = stiffness * (gap[0] - gap)
+    work = 0.5 * stiffness * (gap[0] - gap) ** 2
+    return CompactionCurve(
+        gap,
+        0.01 * (gap[0] - gap),
+        300.0,
+        force_top=force * (1 + imbalance / 2),
+        force_bottom=force * (1 - imbalance / 2),
+        kinetic=np.full(len(gap), kinetic),
+        potential=work,  # all the work stored: nothing dissipated
+        reference_pressure=1.0,
+        window=window,
+    ).compute()
+
+
 def test_curve_thickness_at_is_exact_on_a_line():
-    curve = CompactionCurve([1.0, 0.9, 0.8, 0.7], [0.0, 1.0, 2.0, 3.0], 0.3, window=1).compute()
+    curve = _linear_curve([1000.0, 900.0, 800.0, 700.0], window=1)
     assert curve.thickness_at(1.5) == pytest.approx(0.85)
+    assert curve.fvf == pytest.approx(0.3 / curve.gap_mm)
     assert np.isnan(curve.thickness_at(10.0))
+
+
+def test_curve_energetics_of_a_linear_spring():
+    """F = k (h0 - h) on both plates, top (1 + e/2) F and bottom (1 - e/2) F, constant kinetic K,
+    all work stored: the trapezoidal work is exact, ``W = k (h0 - h)^2 / 2``; the largest
+    K / W is at the first record past the reference pressure (1 kPa at h0 - h = 100 um, in the
+    unsmoothed interior); the imbalance is e; the residual 0. Tolerance 1e-12 (rounding)."""
+    gap = np.linspace(1000.0, 500.0, 51)
+    curve = _linear_curve(gap, stiffness=2.0, kinetic=0.5, imbalance=0.1)
+    assert curve.work == pytest.approx((gap[0] - gap) ** 2, rel=1e-12)
+    assert curve.loaded.tolist() == (gap <= 900.0).tolist()
+    assert curve.max_kinetic_ratio == pytest.approx(0.5 / 100.0**2, rel=1e-12)
+    assert curve.plate_force_imbalance == pytest.approx(0.1, rel=1e-12)
+    assert curve.energy_balance_residual == pytest.approx(0.0, abs=1e-12)
 
 
 def test_mat_only_compacts_without_manufacture(tmp_path):

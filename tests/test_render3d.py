@@ -11,7 +11,7 @@ import pytest
 from conftest import tiny_spec
 
 from ncf2lammps import build_model
-from ncf2lammps.analysis import render3d
+from ncf2lammps.analysis import plots, render3d
 
 
 @pytest.fixture(scope="module")
@@ -38,8 +38,18 @@ def test_fallback_draws_the_faces_with_matplotlib(tiny, tmp_path, monkeypatch, c
             )
     fig.savefig(tmp_path / "views.png", dpi=render3d.DPI)
     image = matplotlib.image.imread(tmp_path / "views.png")
-    assert image.shape[:2] == (13 * render3d.DPI, 11 * render3d.DPI)  # plots.render_views
+    assert image.shape[:2] == tuple(round(v * render3d.DPI) for v in fig.get_size_inches()[::-1])
     assert image[..., :3].std() > 0.05
+    # Panels at the cell's aspect ratio fill the canvas but for their margins (inches): the
+    # equal aspect of the axes shrinks none of them.
+    width, height = fig.get_size_inches()
+    left, right, top, bottom = plots._PANEL_MARGINS_IN
+    boxes = [ax.get_position() for ax in fig.axes]  # after the draw: as drawn
+    assert len(boxes) == 3
+    assert all(box.width * width == pytest.approx(width - left - right, rel=1e-3) for box in boxes)
+    assert sum(box.height for box in boxes) * height == pytest.approx(
+        height - 3 * (top + bottom), rel=1e-3
+    )
     assert len(caplog.records) == 1 and "matplotlib" in caplog.records[0].getMessage()
 
 

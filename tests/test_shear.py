@@ -9,6 +9,7 @@ import pytest
 from conftest import case_spec, copy_run
 
 from ncf2lammps import build_model, run, run_scenes
+from ncf2lammps.analysis.shear import work_force
 from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
 from ncf2lammps.orchestration.report import write_report
@@ -152,3 +153,21 @@ def test_bad_shear_input_names_the_field():
         case_spec("mat-only").replace(shear={"final_angle_deg": 75.0})
     with pytest.raises(SpecError, match=r"shear.fibre_pretension_N_m"):
         case_spec("mat-only").replace(shear={"fibre_pretension_N_m": -1.0})
+
+
+def test_work_force_of_constant_membrane_forces():
+    """Picture frame La x Lb under constant Nxy, Nyy: ``F_N = Nxy - Nyy tan g``.
+
+    The work telescopes exactly, ``W = La Lb (Nxy sin g + Nyy (cos g - 1))`` (to rounding); per
+    interval of dg = 0.225 deg the mid-point law holds to O(dg^2) (1e-5 here).
+    """
+    la, lb, nxy, nyy = 3.0, 2.0, 5.0, -1.5
+    angle = np.linspace(0.0, math.pi / 4, 201)
+    mid = 0.5 * (angle[1:] + angle[:-1])
+    args = (angle, lb * np.sin(angle), la, lb * np.cos(angle))
+    d_work, force = work_force(*args, np.full(200, nxy), np.full(200, nyy))
+    g = angle[-1]
+    assert d_work.sum() == pytest.approx(la * lb * (nxy * np.sin(g) + nyy * (np.cos(g) - 1)))
+    assert force == pytest.approx(nxy - nyy * np.tan(mid), rel=1e-5)
+    _, same = work_force(angle, args[1], np.full(201, la), args[3], [nxy] * 200, [nyy] * 200)
+    assert np.array_equal(same, force)  # a scalar lx is the constant edge

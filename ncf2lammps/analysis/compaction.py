@@ -1,10 +1,20 @@
-"""Compaction curves: pressure against gap, thickness at given pressures (pure numpy)."""
+"""Compaction curves: pressure against gap, thickness at given pressures, energetics (numpy)."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-__all__ = ["CompactionCurve", "smooth"]
+from .. import units
+from .energy import energy_balance_residual
+
+__all__ = ["EXPERIMENT", "PAPER_MODEL_THICKNESS_1KPA_MM", "CompactionCurve", "smooth"]
+
+#: Experiment of the paper (rheometer, one layer, 10 um/s): (thickness mm, pressure kPa).
+EXPERIMENT = ((0.68, 1.0), (0.44, 18.0))
+#: Thickness at 1 kPa given by the paper's digital-chain model (mm).
+PAPER_MODEL_THICKNESS_1KPA_MM = 0.34
 
 
 def smooth(values: np.ndarray, window: int) -> np.ndarray:
@@ -20,35 +30,83 @@ def smooth(values: np.ndarray, window: int) -> np.ndarray:
 class CompactionCurve:
     """Loading curve of a compaction test; ``compute()`` then read the attributes.
 
+    Inputs are in LAMMPS micro units (um, kPa, nN, pg um^2/us^2); thicknesses come out in mm.
+
     Args:
-        gap: (N,) plate gap, decreasing (mm).
+        gap: (N,) plate gap, decreasing (um).
         pressure: (N,) plate pressure (kPa).
-        fibre_volume_per_area: fibre volume per cell area ``A / rho`` (mm), so Vf = it / gap.
+        fibre_volume_per_area: fibre volume per cell area ``A / rho`` (um), so Vf = it / gap.
+        force_top, force_bottom: (N,) normal forces on the two plates (nN).
+        kinetic, potential: (N,) kinetic and potential energy (pg um^2/us^2).
+        reference_pressure: the energetics are read from where the smoothed pressure first
+            reaches it (kPa), so that they do not depend on where the plates stop.
         window: samples of the moving average that smooths the dynamic ripple.
 
-    After :meth:`compute`: ``smoothed`` (N,) kPa; ``fvf`` (N,); :meth:`thickness_at`.
+    After :meth:`compute`: ``gap_mm``, ``smoothed`` (kPa), ``fvf`` (all (N,)); ``work`` (N,)
+    external work ``W = integral of F dgap`` with F the mean plate force, trapezoidal
+    (pg um^2/us^2); ``loaded`` (N,) past the reference pressure with W > 0;
+    ``max_kinetic_ratio`` (largest kinetic energy / W once loaded); ``plate_force_imbalance``
+    (travel-weighted ``|F_top - F_bottom| / F`` once loaded: 0 for quasi-static plates);
+    ``energy_balance_residual`` (:func:`~ncf2lammps.analysis.energy.energy_balance_residual`);
+    :meth:`thickness_at`.
     """
 
-    def __init__(self, gap, pressure, fibre_volume_per_area: float, window: int = 5):
+    def __init__(
+        self,
+        gap,
+        pressure,
+        fibre_volume_per_area: float,
+        *,
+        force_top,
+        force_bottom,
+        kinetic,
+        potential,
+        reference_pressure: float,
+        window: int = 5,
+    ):
         self.gap = np.asarray(gap, dtype=float)
         self.pressure = np.asarray(pressure, dtype=float)
         self.fibre_volume_per_area = float(fibre_volume_per_area)
+        self.force_top = np.asarray(force_top, dtype=float)
+        self.force_bottom = np.asarray(force_bottom, dtype=float)
+        self.kinetic = np.asarray(kinetic, dtype=float)
+        self.potential = np.asarray(potential, dtype=float)
+        self.reference_pressure = float(reference_pressure)
         self.window = window
 
     def compute(self) -> CompactionCurve:
-        """Smooth the pressure and derive Vf along the curve."""
+        """Smooth the pressure, derive Vf along the curve and the energetics of the loading."""
+        gap = self.gap
+        self.gap_mm = units.from_micro(gap, "mm")
         self.smoothed = smooth(self.pressure, self.window)
-        self.fvf = self.fibre_volume_per_area / self.gap
+        self.fvf = units.from_micro(self.fibre_volume_per_area, "mm") / self.gap_mm
+        force = 0.5 * (self.force_top + self.force_bottom)
+        steps = 0.5 * (force[1:] + force[:-1]) * -np.diff(gap)
+        self.work = np.concatenate([[0.0], np.cumsum(steps)])
+        reached = self.smoothed >= self.reference_pressure
+        self.loaded = np.maximum.accumulate(reached) & (self.work > 0.0)
+        ratio = self.kinetic[self.loaded] / self.work[self.loaded]
+        self.max_kinetic_ratio = float(ratio.max()) if len(ratio) else math.nan
+        mismatch = np.abs(self.force_top - self.force_bottom)
+        travel = np.abs(np.gradient(gap)) * self.loaded if len(gap) > 1 else np.zeros(len(gap))
+        self.plate_force_imbalance = (
+            float(np.sum(mismatch * travel) / np.sum(force * travel))
+            if np.any(travel)
+            else math.nan
+        )
+        self.energy_balance_residual = energy_balance_residual(
+            self.work, self.kinetic, self.potential
+        )
         return self
 
     def thickness_at(self, pressure: float) -> float:
-        """Gap (mm) where the smoothed pressure first reaches ``pressure``; NaN if never."""
+        """Gap (mm) where the smoothed pressure first reaches ``pressure`` (kPa); NaN if never."""
         above = np.flatnonzero(self.smoothed >= pressure)
         if len(above) == 0:
             return float("nan")
         i = int(above[0])
         if i == 0:
-            return float(self.gap[0])
+            return float(self.gap_mm[0])
         p0, p1 = self.smoothed[i - 1], self.smoothed[i]
         weight = (pressure - p0) / (p1 - p0)
-        return float(self.gap[i - 1] + weight * (self.gap[i] - self.gap[i - 1]))
+        return float(self.gap_mm[i - 1] + weight * (self.gap_mm[i] - self.gap_mm[i - 1]))

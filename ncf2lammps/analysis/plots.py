@@ -1,4 +1,10 @@
-"""Plots: plain functions taking ``ax=None`` (matplotlib, headless).
+"""Plots: plain functions taking ``ax=None`` (matplotlib's object API: no pyplot, no backend).
+
+A function given ``ax`` draws on it; without one it draws on a new
+:class:`~matplotlib.figure.Figure`, which saves to PNG with no backend chosen, so importing or
+calling these keeps a Jupyter user's backend. Functions whose panels share a layout (the three
+face views sized to the cell, stacked histories sharing the time axis, a curve beside its
+colour map) draw and return a whole figure; each says so.
 
 Renders of the cell draw every bead as a disc of its true diameter, in depth order, so the face
 that a viewer would see ends up on top (painter's algorithm); the cell is tiled ``repeat``
@@ -7,18 +13,22 @@ times like the paper's Fig. 4.
 
 from __future__ import annotations
 
-import matplotlib
+import math
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import EllipseCollection
+from matplotlib.figure import Figure
+
+from .compaction import EXPERIMENT, PAPER_MODEL_THICKNESS_1KPA_MM
+from .shear import EXPERIMENT_FORCE_45DEG_N_PER_M, PAPER_MODEL_FORCE_45DEG_N_PER_M
 
 __all__ = [
     "CAPTIONS",
     "VIEWS",
+    "plot_compaction",
     "plot_histories",
     "plot_local_thickness",
+    "plot_shear",
     "plot_study",
     "render_cell",
     "render_views",
@@ -48,6 +58,28 @@ def tile_cell(positions, box_lengths, tilt_xy, repeat):
     return (positions[None, :, :] + shifts[:, None, :]).reshape(-1, 3), len(shifts)
 
 
+def _project(positions, diameter, colour_index, box_lengths, view, repeat, tilt_xy):
+    """Discs of one view in drawing order: (M,) x, y, size (um) and (M, 3) RGB."""
+    h, v, depth, sign = VIEWS[view]
+    tiled, copies = tile_cell(
+        positions, box_lengths, tilt_xy, repeat if view != "side" else (repeat[0], 1)
+    )
+    size = np.tile(diameter, copies)
+    colours = _COLOURS[np.tile(colour_index, copies) % len(_COLOURS)]
+    order = np.argsort(sign * tiled[:, depth], kind="stable")
+    # Shade by depth so that layers read apart.
+    z = sign * tiled[order, depth]
+    shade = 0.55 + 0.45 * (z - z.min()) / max(np.ptp(z), 1e-12)
+    x = tiled[order, h] * (-1.0 if view == "back" else 1.0)
+    return x, tiled[order, v], size[order], np.clip(colours[order] * shade[:, None], 0, 1)
+
+
+def _extent(x, y, size) -> tuple[float, float]:
+    """Width and height (um) of a view's axes limits: the disc centres padded by the largest."""
+    pad = 2.0 * float(size.max())
+    return float(np.ptp(x)) + pad, float(np.ptp(y)) + pad
+
+
 def render_cell(
     positions: np.ndarray,
     diameter: np.ndarray,
@@ -66,28 +98,21 @@ def render_cell(
         view: ``front`` (loop face, +z), ``back`` (underlap face, -z) or ``side`` (-y).
         repeat: cells tiled along the two box edges in the plane.
     """
-    h, v, depth, sign = VIEWS[view]
-    tiled, copies = tile_cell(
-        positions, box_lengths, tilt_xy, repeat if view != "side" else (repeat[0], 1)
+    h, v, _, _ = VIEWS[view]
+    x, y, size, facecolors = _project(
+        positions, diameter, colour_index, box_lengths, view, repeat, tilt_xy
     )
-    size = np.tile(diameter, copies)
-    colours = _COLOURS[np.tile(colour_index, copies) % len(_COLOURS)]
-    order = np.argsort(sign * tiled[:, depth], kind="stable")
-    # Shade by depth so that layers read apart.
-    z = sign * tiled[order, depth]
-    shade = 0.55 + 0.45 * (z - z.min()) / max(np.ptp(z), 1e-12)
-    x = tiled[order, h] * (-1.0 if view == "back" else 1.0)
-    y = tiled[order, v]
     if ax is None:
-        _, ax = plt.subplots(figsize=(10, 10 * max(np.ptp(y), 1) / max(np.ptp(x), 1) + 0.6))
+        width, height = _extent(x, y, size)
+        ax = Figure(figsize=(10, 10 * height / width + 0.6)).subplots()
     discs = EllipseCollection(
-        size[order],
-        size[order],
-        np.zeros(len(order)),
+        size,
+        size,
+        np.zeros(len(size)),
         units="xy",
         offsets=np.column_stack([x, y]),
         offset_transform=ax.transData,
-        facecolors=np.clip(colours[order] * shade[:, None], 0, 1),
+        facecolors=facecolors,
         edgecolors="none",
     )
     ax.add_collection(discs)
@@ -100,22 +125,135 @@ def render_cell(
     return ax
 
 
-def render_views(positions, diameter, colour_index, box_lengths, title: str, tilt_xy: float = 0.0):
-    """Figure with front, back and side renders of a 3 x 2 tiling; returns the figure."""
-    fig, axes = plt.subplots(3, 1, figsize=(11, 13), gridspec_kw={"height_ratios": [3, 3, 1.2]})
-    for ax, view in zip(axes, ("front", "back", "side"), strict=True):
+#: Margins of each face-view panel (inches): left (y label), right, top (title), bottom (x label).
+_PANEL_MARGINS_IN = (0.95, 0.25, 0.35, 0.55)
+
+
+def render_views(
+    positions,
+    diameter,
+    colour_index,
+    box_lengths,
+    title: str,
+    tilt_xy: float = 0.0,
+    width_in: float = 11.0,
+    max_height_in: float = 16.0,
+):
+    """Figure of the front, back and side renders of a 3 x 2 tiling; returns the figure.
+
+    A whole figure, so that each panel's height follows its view's extent at the cell's aspect
+    ratio and the panels fill the canvas: ``width_in`` wide (narrower where the stacked panels
+    would be taller than ``max_height_in``). Arguments as in :func:`render_cell`.
+    """
+    left, right, top, bottom = _PANEL_MARGINS_IN
+    views = ("front", "back", "side")
+    extents = [
+        _extent(
+            *_project(positions, diameter, colour_index, box_lengths, view, (3, 2), tilt_xy)[:3]
+        )
+        for view in views
+    ]
+    aspects = [height / width for width, height in extents]
+    overhead = len(views) * (top + bottom)
+    axes_width = min(width_in - left - right, (max_height_in - overhead) / sum(aspects))
+    heights = [axes_width * a for a in aspects]
+    fig_width, fig_height = axes_width + left + right, sum(heights) + overhead
+    fig = Figure(figsize=(fig_width, fig_height))
+    upper = fig_height
+    for view, height in zip(views, heights, strict=True):
+        upper -= top + height
+        box = (left / fig_width, upper / fig_height, axes_width / fig_width, height / fig_height)
+        ax = fig.add_axes(box)
         render_cell(positions, diameter, colour_index, box_lengths, view, tilt_xy=tilt_xy, ax=ax)
         ax.set_title(f"{title}: {CAPTIONS[view]}")
-    fig.tight_layout()
+        upper -= bottom
     return fig
 
 
+def plot_compaction(results: dict, ax=None, label: str | None = None):
+    """Pressure against plate gap with the paper's experiment and model marked; returns the axes.
+
+    ``results``: the dict of :func:`~ncf2lammps.io.results.read_results` (its ``compaction``
+    group: ``gap_mm``, ``pressure_kPa``, ``pressure_smoothed_kPa``, attrs). Without ``label``
+    the run's own figure: raw and smoothed curves, the thickness at 1 and 18 kPa circled, the
+    plate speed in the title. With ``label``: the smoothed curve so named, to compare runs on
+    one axes (pressure axis up to 100 kPa). The paper's marks are drawn once per axes.
+    """
+    group = results["compaction"]
+    attrs = group["attrs"]
+    if ax is None:
+        ax = Figure(figsize=(6.5, 4.5)).subplots()
+    top = 100.0
+    if label is None:
+        ax.plot(group["gap_mm"], group["pressure_kPa"], lw=0.6, alpha=0.5, label="this run (raw)")
+        ax.plot(
+            group["gap_mm"], group["pressure_smoothed_kPa"], lw=1.5, label="this run (smoothed)"
+        )
+        for t, p in ((attrs["thickness_at_1kPa_mm"], 1.0), (attrs["thickness_at_18kPa_mm"], 18.0)):
+            if math.isfinite(t):
+                ax.plot([t], [p], "o", mfc="none", mec="C1")
+        top = max(top, float(np.nanmax(group["pressure_kPa"])) * 1.2)
+        ax.set_title(f"compaction at {attrs['plate_speed_m_s']:.3g} m/s")
+    else:
+        ax.plot(group["gap_mm"], group["pressure_smoothed_kPa"], lw=1.2, label=label)
+    if not _has_paper_marks(ax):
+        ax.plot(*zip(*EXPERIMENT, strict=True), "ks", gid="paper", label="experiment (paper)")
+        ax.plot(
+            [PAPER_MODEL_THICKNESS_1KPA_MM], [1.0], "r^", gid="paper", label="paper model at 1 kPa"
+        )
+    ax.set_yscale("log")
+    ax.set_ylim(0.05, top)
+    ax.set_xlabel("thickness = plate gap (mm)")
+    ax.set_ylabel("pressure (kPa)")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plot_shear(results: dict, ax=None, label: str | None = None):
+    """Normalised shear force F_N against shear angle with the paper's values at 45 deg; returns
+    the axes.
+
+    ``results``: the dict of :func:`~ncf2lammps.io.results.read_results` (its ``shear`` group:
+    ``angle_deg``, ``force_N_per_m``, ``force_work_N_per_m``, attrs). Without ``label`` the
+    run's own figure: virial and work F_N, the shear rate in the title. With ``label``: the
+    virial F_N so named, to compare runs on one axes. The paper's marks are drawn once per axes.
+    """
+    group = results["shear"]
+    if ax is None:
+        ax = Figure(figsize=(6.5, 4.5)).subplots()
+    if label is None:
+        ax.plot(group["angle_deg"], group["force_N_per_m"], lw=1.2, label="virial")
+        ax.plot(
+            group["angle_deg"], group["force_work_N_per_m"], "--", lw=1.0, label="work dW/(A dg)"
+        )
+        ax.set_title(f"picture-frame shear at {group['attrs']['shear_rate_deg_us']:.3g} deg/us")
+    else:
+        ax.plot(group["angle_deg"], group["force_N_per_m"], lw=1.0, label=label)
+    if not _has_paper_marks(ax):
+        experiment = f"experiment (paper), ~{EXPERIMENT_FORCE_45DEG_N_PER_M:g} N/m"
+        model = f"paper model, {PAPER_MODEL_FORCE_45DEG_N_PER_M:g} N/m"
+        ax.plot([45.0], [EXPERIMENT_FORCE_45DEG_N_PER_M], "ks", gid="paper", label=experiment)
+        ax.plot([45.0], [PAPER_MODEL_FORCE_45DEG_N_PER_M], "r^", gid="paper", label=model)
+    ax.set_yscale("symlog", linthresh=0.1)
+    ax.set_xlabel("shear angle (deg)")
+    ax.set_ylabel("normalised shear force F_N (N/m)")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def _has_paper_marks(ax) -> bool:
+    """Whether the paper's marks are already on ``ax``."""
+    return any(line.get_gid() == "paper" for line in ax.get_lines())
+
+
 def plot_histories(time, series: list[tuple[str, np.ndarray, float | None, bool]], title: str):
-    """Stacked time histories sharing the time axis (us); returns the figure.
+    """Stacked time histories sharing the time axis (us); returns the figure (a whole one: the
+    panels share the time axis).
 
     ``series``: (label, values, reference line or None, logarithmic) per panel.
     """
-    fig, axes = plt.subplots(len(series), 1, figsize=(7, 2.3 * len(series)), sharex=True)
+    fig = Figure(figsize=(7, 2.3 * len(series)))
+    axes = fig.subplots(len(series), 1, sharex=True)
     for ax, (label, values, reference, log) in zip(np.atleast_1d(axes), series, strict=True):
         if log:
             ax.semilogy(time, np.maximum(values, 1e-12))
@@ -132,8 +270,10 @@ def plot_histories(time, series: list[tuple[str, np.ndarray, float | None, bool]
 
 def plot_local_thickness(step, thickness_mm, fvf, title: str):
     """Local thickness (min, mean, max over the grid) against step, and the last frame's local
-    Vf map. ``step`` (F,); ``thickness_mm``, ``fvf`` (F, nx, ny). Returns the figure."""
-    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 3.8))
+    Vf map. ``step`` (F,); ``thickness_mm``, ``fvf`` (F, nx, ny). Returns the figure (a whole
+    one: the map's colour bar takes its own axes)."""
+    fig = Figure(figsize=(10, 3.8))
+    left, right = fig.subplots(1, 2)
     flat = thickness_mm.reshape(len(step), -1)
     left.fill_between(step, np.nanmin(flat, 1), np.nanmax(flat, 1), alpha=0.3, label="min-max")
     left.plot(step, np.nanmean(flat, 1), label="mean")
@@ -150,15 +290,21 @@ def plot_local_thickness(step, thickness_mm, fvf, title: str):
     return fig
 
 
-def plot_study(wall_s, error, front, labels, tolerance: float, reference: int):
+def plot_study(wall_s, error, front, labels, tolerance: float, reference: int, ax=None):
     """Log-log maximum relative error against wall time, the Pareto front joined; returns the
-    figure. The reference point (error 0) is drawn on the lower edge."""
+    figure (``ax``'s, if given). The reference point (error 0) is drawn on the lower edge.
+
+    ``wall_s``, ``error``: (P,) per study point (s, relative); ``front``: (P,) bool;
+    ``labels``: (P,) point names; ``reference``: index of the reference point.
+    """
     wall_s = np.asarray(wall_s, dtype=float)
     error = np.asarray(error, dtype=float)
     finite = np.isfinite(error) & (error > 0)
     floor = 0.3 * float(error[finite].min()) if np.any(finite) else 1e-4
     shown = np.where(np.isfinite(error), np.maximum(error, floor), np.nan)
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    own = ax is None
+    if own:
+        ax = Figure(figsize=(6.4, 4.4)).subplots()
     ax.loglog(wall_s, shown, "o", c="0.6", label="study point")
     order = np.flatnonzero(front)[np.argsort(wall_s[front])]
     ax.loglog(wall_s[order], shown[order], "-o", c="C3", label="Pareto front")
@@ -170,5 +316,6 @@ def plot_study(wall_s, error, front, labels, tolerance: float, reference: int):
     ax.set_xlabel("wall time (s)")
     ax.set_ylabel("largest relative error of the outputs")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    return fig
+    if own:
+        ax.figure.tight_layout()
+    return ax.figure

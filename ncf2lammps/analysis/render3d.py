@@ -16,8 +16,8 @@ from __future__ import annotations
 import functools
 import logging
 
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from ..io.datafile import LammpsData
 from .plots import CAPTIONS, VIEWS, render_views, tile_cell
@@ -158,7 +158,7 @@ def views_figure(
         return render_views(positions, diameter, type_id, box_lengths, title, tilt_xy)
     width = images[0].shape[1]
     height = sum(image.shape[0] + TITLE_PX for image in images)
-    fig = plt.figure(figsize=(width / DPI, height / DPI), dpi=DPI)
+    fig = Figure(figsize=(width / DPI, height / DPI), dpi=DPI)
     top = height
     for view, image in zip(CAMERAS, images, strict=True):
         fig.text(0.01, (top - TITLE_PX / 2) / height, f"{title}: {CAPTIONS[view]}", va="center")

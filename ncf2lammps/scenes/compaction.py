@@ -18,12 +18,11 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import units
 from ..analysis.compaction import CompactionCurve
-from ..analysis.energy import energy_balance_residual
+from ..analysis.plots import plot_compaction
 from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import Prepared, inertial_strain_rate
@@ -31,16 +30,10 @@ from ..spec import FabricSpec
 from .base import Scene
 
 __all__ = [
-    "EXPERIMENT",
-    "PAPER_MODEL_THICKNESS_1KPA_MM",
     "SCENE",
     "plate_speed",
 ]
 
-#: Experiment of the paper (rheometer, one layer, 10 um/s): (thickness mm, pressure kPa).
-EXPERIMENT = ((0.68, 1.0), (0.44, 18.0))
-#: Thickness at 1 kPa given by the paper's digital-chain model (mm).
-PAPER_MODEL_THICKNESS_1KPA_MM = 0.34
 #: Pressures at which thickness is reported (kPa): DIN ISO 5084 and the rheometer maximum.
 REPORT_PRESSURES = (1.0, 18.0)
 
@@ -113,34 +106,26 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
     gap = history["v_gap"][keep]
     pressure = history["v_pressure"][keep]
     per_area = model.fibre_volume / model.cell_area
-    curve = CompactionCurve(units.from_micro(gap, "mm"), pressure, units.from_micro(per_area, "mm"))
-    curve.compute()
-    # External work W = integral of plate force over travel; kinetic ratio KE / W once loaded:
-    # from the first record where the smoothed pressure reaches the reference pressure (the
-    # lowest reported), so that the check does not depend on where the plates stop.
-    force = 0.5 * (history["v_force_top"] + history["v_force_bottom"])[keep]
-    work = np.concatenate([[0.0], np.cumsum(0.5 * (force[1:] + force[:-1]) * -np.diff(gap))])
-    reached = curve.smoothed >= units.to_micro(spec.compaction.reference_pressure_kPa, "kPa")
-    loaded = np.maximum.accumulate(reached) & (work > 0.0)
-    kinetic = history["v_kinetic"][keep]
-    ratio = kinetic[loaded] / work[loaded]
-    # Quasi-static plates carry equal forces: the work-weighted top/bottom mismatch once loaded.
-    mismatch = np.abs(history["v_force_top"] - history["v_force_bottom"])[keep]
-    travel = np.abs(np.gradient(gap)) * loaded if len(gap) > 1 else np.zeros(len(gap))
-    imbalance = (
-        float(np.sum(mismatch * travel) / np.sum(force * travel)) if np.any(travel) else math.nan
-    )
-    potential = history["v_potential"][keep]
+    curve = CompactionCurve(
+        gap,
+        pressure,
+        per_area,
+        force_top=history["v_force_top"][keep],
+        force_bottom=history["v_force_bottom"][keep],
+        kinetic=history["v_kinetic"][keep],
+        potential=history["v_potential"][keep],
+        reference_pressure=units.to_micro(spec.compaction.reference_pressure_kPa, "kPa"),
+    ).compute()
     t1, t18 = (curve.thickness_at(p) for p in REPORT_PRESSURES)
     attrs = {
         "steps": scene_steps(directory / "compaction.final.txt"),
         "thickness_at_1kPa_mm": t1,
         "thickness_at_18kPa_mm": t18,
         "fvf_at_18kPa": units.from_micro(per_area, "mm") / t18 if math.isfinite(t18) else math.nan,
-        "max_kinetic_ratio": float(ratio.max()) if len(ratio) else math.nan,
+        "max_kinetic_ratio": curve.max_kinetic_ratio,
         "kinetic_ratio_target": spec.compaction.kinetic_ratio_target,
-        "plate_force_imbalance": imbalance,
-        "energy_balance_residual": energy_balance_residual(work, kinetic, potential),
+        "plate_force_imbalance": curve.plate_force_imbalance,
+        "energy_balance_residual": curve.energy_balance_residual,
         "plate_speed_m_s": units.from_micro(plate_speed(spec, model), "m_s"),
         "final_fvf": spec.compaction.final_fvf,
         "reached_fvf": float(curve.fvf[-1]) if len(gap) else math.nan,
@@ -148,7 +133,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
     }
     datasets = {
         "time_us": history["v_time"][keep],
-        "gap_mm": curve.gap,
+        "gap_mm": curve.gap_mm,
         "pressure_kPa": curve.pressure,
         "pressure_smoothed_kPa": curve.smoothed,
         "fvf": curve.fvf,
@@ -160,26 +145,10 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
 
 def figures(results: dict, directory: Path) -> list[Path]:
     """Pressure against thickness with the paper's experiment and model marked."""
-    group = results["compaction"]
-    attrs = group["attrs"]
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    ax.plot(group["gap_mm"], group["pressure_kPa"], lw=0.6, alpha=0.5, label="this run (raw)")
-    ax.plot(group["gap_mm"], group["pressure_smoothed_kPa"], lw=1.5, label="this run (smoothed)")
-    ax.plot(*zip(*EXPERIMENT, strict=True), "ks", label="experiment (paper)")
-    ax.plot([PAPER_MODEL_THICKNESS_1KPA_MM], [1.0], "r^", label="paper model at 1 kPa")
-    for t, p in ((attrs["thickness_at_1kPa_mm"], 1.0), (attrs["thickness_at_18kPa_mm"], 18.0)):
-        if math.isfinite(t):
-            ax.plot([t], [p], "o", mfc="none", mec="C1")
-    ax.set_yscale("log")
-    ax.set_ylim(0.05, max(100.0, float(np.nanmax(group["pressure_kPa"])) * 1.2))
-    ax.set_xlabel("thickness = plate gap (mm)")
-    ax.set_ylabel("pressure (kPa)")
-    ax.set_title(f"compaction at {attrs['plate_speed_m_s']:.3g} m/s")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
+    ax = plot_compaction(results)
+    ax.figure.tight_layout()
     path = directory / "figures" / "compaction.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    ax.figure.savefig(path, dpi=110)
     return [path]
 
 

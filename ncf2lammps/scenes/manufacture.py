@@ -24,7 +24,6 @@ import json
 import math
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import units
@@ -273,7 +272,6 @@ def figures(results: dict, directory: Path) -> list[Path]:
         fig = state_views(read_data(state_file), "as manufactured")
         written.append(directory / "figures" / "manufacture_views.png")
         fig.savefig(written[-1], dpi=110)
-        plt.close(fig)
     fig = plot_histories(
         group["time_us"],
         [
@@ -290,7 +288,6 @@ def figures(results: dict, directory: Path) -> list[Path]:
     )
     written.append(directory / "figures" / "manufacture_history.png")
     fig.savefig(written[-1], dpi=110)
-    plt.close(fig)
     return written
 
 

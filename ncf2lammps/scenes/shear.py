@@ -17,11 +17,11 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import units
 from ..analysis.energy import energy_balance_residual
+from ..analysis.plots import plot_shear
 from ..analysis.render3d import state_views
 from ..analysis.shear import ShearCurve
 from ..io.datafile import read_data
@@ -32,18 +32,11 @@ from ..spec import FabricSpec
 from .base import Scene
 
 __all__ = [
-    "EXPERIMENT_FORCE_45DEG_N_PER_M",
-    "PAPER_MODEL_FORCE_45DEG_N_PER_M",
     "REFERENCE_PRESSURE_KPA",
     "SCENE",
     "shear_rate",
 ]
 
-#: Picture-frame experiment of the paper at 45 deg (N/m): frame side 175 mm, 100 mm/min, fibre
-#: pretension 22 N/m, mean of 6 samples; "almost 50 times" the paper model's value.
-EXPERIMENT_FORCE_45DEG_N_PER_M = 30.0
-#: Largest F_N at 45 deg of the paper's digital-chain model (Abaqus/Explicit, 9 deg/s), N/m.
-PAPER_MODEL_FORCE_45DEG_N_PER_M = 0.6
 #: Pressure of the inertial-number rate (kPa): DIN ISO 5084, the lowest at which NCF thickness
 #: is measured; the stitch holds the manufactured cell at least this tight.
 REFERENCE_PRESSURE_KPA = 1.0
@@ -183,22 +176,10 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
 
 def figures(results: dict, directory: Path) -> list[Path]:
     """F_N against angle (virial, work, the paper's values) and renders at 22.5 and 45 deg."""
-    group = results["shear"]
-    attrs = group["attrs"]
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    ax.plot(group["angle_deg"], group["force_N_per_m"], lw=1.2, label="virial")
-    ax.plot(group["angle_deg"], group["force_work_N_per_m"], "--", lw=1.0, label="work dW/(A dg)")
-    ax.plot([45.0], [EXPERIMENT_FORCE_45DEG_N_PER_M], "ks", label="experiment (paper), ~30 N/m")
-    ax.plot([45.0], [PAPER_MODEL_FORCE_45DEG_N_PER_M], "r^", label="paper model, 0.6 N/m")
-    ax.set_yscale("symlog", linthresh=0.1)
-    ax.set_xlabel("shear angle (deg)")
-    ax.set_ylabel("normalised shear force F_N (N/m)")
-    ax.set_title(f"picture-frame shear at {attrs['shear_rate_deg_us']:.3g} deg/us")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
+    ax = plot_shear(results)
+    ax.figure.tight_layout()
     written = [directory / "figures" / "shear_force.png"]
-    fig.savefig(written[-1], dpi=110)
-    plt.close(fig)
+    ax.figure.savefig(written[-1], dpi=110)
     for angle in SNAPSHOT_DEG:
         state_file = directory / f"shear_{angle:g}deg.data"
         if not state_file.is_file():
@@ -206,7 +187,6 @@ def figures(results: dict, directory: Path) -> list[Path]:
         fig = state_views(read_data(state_file), f"sheared {angle:g} deg")
         written.append(directory / "figures" / f"shear_views_{angle:g}deg.png")
         fig.savefig(written[-1], dpi=110)
-        plt.close(fig)
     return written
 
 

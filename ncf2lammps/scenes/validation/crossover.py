@@ -39,6 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from ... import units
+from ...analysis.shear import work_force
 from ...model import Model
 from .common import (
     E_CARBON,
@@ -142,9 +143,7 @@ def run(workdir: Path, full: bool = False) -> CaseResult:
     lx, lz = start["lx"], start["lz"]
     xy, ly = np.r_[start["xy"], rec["xy"]], np.r_[start["ly"], rec["ly"]]
     g = np.arctan2(xy, ly)  # box angle at 0 and at each step end
-    d_g = np.diff(g)
-    work = -lx * lz * (rec["pxy"] * np.diff(xy) + rec["pyy"] * np.diff(ly))
-    fn_work_step = work / (lx * 0.5 * (ly[1:] + ly[:-1]) * d_g)
+    work, fn_work_step = work_force(g, xy, lx, ly, -rec["pxy"] * lz, -rec["pyy"] * lz)
     loaded = np.abs(rec["fn_avg"]) > 0.1 * np.abs(rec["fn_avg"]).max()
     worst = float(np.max(np.abs(fn_work_step[loaded] / rec["fn_avg"][loaded] - 1)))
     checks = []

@@ -1,4 +1,4 @@
-"""Plots of the validation cases (matplotlib, Agg backend; plain functions writing PNG files)."""
+"""Plots of the validation cases (matplotlib's object API, no backend; functions writing PNGs)."""
 
 from __future__ import annotations
 
@@ -6,6 +6,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+from matplotlib.figure import Figure
 
 __all__ = ["line_plot"]
 
@@ -22,12 +23,8 @@ def line_plot(
 
     ``styles`` are matplotlib format strings, one per curve (default: lines).
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.0, 4.0), dpi=110)
+    fig = Figure(figsize=(6.0, 4.0), dpi=110)
+    ax = fig.subplots()
     for i, (x, y, label) in enumerate(curves):
         ax.plot(x, y, styles[i] if styles else "-", label=label)
     ax.set_xlabel(xlabel)
@@ -38,5 +35,4 @@ def line_plot(
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path)
-    plt.close(fig)
     return path

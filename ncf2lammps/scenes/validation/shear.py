@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from ... import units
+from ...analysis.shear import work_force
 from .common import (
     E_CARBON,
     RHO_CARBON,
@@ -165,11 +166,8 @@ def _identity(workdir: Path, full: bool) -> tuple[list[Check], tuple, str]:
     ly = np.r_[rec["ly_start"], rec["ly"]]
     energy = np.r_[rec["energy_start"], rec["energy"]]
     lx, lz = rec["lx"][0], rec["lz"][0]
-    d_g = np.diff(g)
-    area = lx * 0.5 * (ly[1:] + ly[:-1])
-    work = -lx * lz * (rec["pxy"] * np.diff(xy) + rec["pyy"] * np.diff(ly))
-    fn_work = work / (area * d_g)
-    fn_energy = np.diff(energy) / (area * d_g)
+    work, fn_work = work_force(g, xy, lx, ly, -rec["pxy"] * lz, -rec["pyy"] * lz)
+    fn_energy = np.diff(energy) / (lx * 0.5 * (ly[1:] + ly[:-1]) * np.diff(g))
     loaded = np.abs(rec["fn"]) > 0.1 * np.abs(rec["fn"]).max()
     virial_vs_work = float(np.max(np.abs(fn_work[loaded] / rec["fn"][loaded] - 1)))
     length = np.sqrt(lx**2 + frame**2 + 2 * lx * frame * np.sin(rec["g"]))
