@@ -8,7 +8,6 @@ import tomllib
 from datetime import UTC, datetime
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import __version__, units
@@ -112,7 +111,6 @@ def _trajectories(directory: Path, scenes) -> list[Path]:
         )
         written.append(directory / "figures" / f"{scene}_trajectory.png")
         fig.savefig(written[-1], dpi=110)
-        plt.close(fig)
     return written
 
 

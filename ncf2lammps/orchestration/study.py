@@ -30,7 +30,6 @@ from datetime import UTC, datetime
 from itertools import product
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from ..analysis.plots import plot_study
@@ -387,6 +386,5 @@ def _write_tables(directory, spec, points, reference, rows, scenes, tolerance) -
         table.wall, table.worst, table.front, table.columns["point"], tolerance, reference
     )
     fig.savefig(directory / "study.png", dpi=120)
-    plt.close(fig)
     (directory / "study.md").write_text(_markdown(spec, table, rows, reference, scenes, tolerance))
     return [directory / "study.csv", directory / "study.md", directory / "study.png"]
