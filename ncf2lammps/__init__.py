@@ -6,14 +6,15 @@ Public surface for generate-and-run scripts::
     spec = n2l.load_spec("runs/hpt310-coarse/spec.toml")
     spec = spec.replace(discretisation={"chain_diameter_um": 150.0})
     model = n2l.build_model(spec)
-    n2l.build(spec, "out/d150")          # model.data, spec.resolved.toml, decks/
+    prepared = n2l.prepare(spec)         # model, simulated model, time step, contact law: once
+    n2l.build(prepared, "out/d150")      # model.data, spec.resolved.toml, decks/
     n2l.run(spec, "out/run")             # build, run the scenes; returns results.h5
 """
 
 __version__ = "0.1.0"
 
 from .model import Model, build_model
-from .numerics import time_step
+from .numerics import Prepared, prepare, time_step
 from .orchestration.build import build
 from .orchestration.run import run, run_scenes
 from .spec import FabricSpec, SpecError, load_spec, spec_from_dict
@@ -21,11 +22,13 @@ from .spec import FabricSpec, SpecError, load_spec, spec_from_dict
 __all__ = [
     "FabricSpec",
     "Model",
+    "Prepared",
     "SpecError",
     "__version__",
     "build",
     "build_model",
     "load_spec",
+    "prepare",
     "run",
     "run_scenes",
     "spec_from_dict",
