@@ -6,7 +6,7 @@ Public surface for generate-and-run scripts::
     spec = n2l.load_spec("runs/hpt310-coarse/spec.toml")
     spec = spec.replace(discretisation={"chain_diameter_um": 150.0})
     model = n2l.build_model(spec)
-    prepared = n2l.prepare(spec)         # model, simulated model, time step, contact law: once
+    prepared = n2l.prepare(spec, model)  # + simulated model, time step, contact law: once
     n2l.build(prepared, "out/d150")      # model.data, spec.resolved.toml, decks/
     n2l.run(spec, "out/run")             # build, run the scenes; returns results.h5
 """

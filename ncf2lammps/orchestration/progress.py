@@ -29,6 +29,8 @@ class Progress:
         self.tty = enabled and self.stream.isatty()
         self.bar: tqdm | None = None
         self.run: tuple[int, int] | None = None
+        self.label = scene
+        self.first_step = 0
         self.started = time.perf_counter()
         self.last_line = 0.0
 
@@ -44,35 +46,52 @@ class Progress:
         if not self.enabled:
             return
         if (start, end) != self.run:
-            self._start_run(stage, start, end)
+            self._start_run(stage, step, start, end)
+            return
         if self.tty:
             self.bar.update(step - start - self.bar.n)
             return
         now = time.perf_counter()
         if now - self.last_line >= PLAIN_EVERY_S or step >= end:
-            self.last_line = now
-            line = tqdm.format_meter(
-                step - start,
-                end - start,
-                now - self.started,
-                prefix=f"{self.scene}:{stage}",
-                unit=" steps",
-                unit_scale=True,
-            )
-            self.stream.write(line + "\n")
-            self.stream.flush()
+            self._line(step, now)
 
-    def _start_run(self, stage: str, start: int, end: int) -> None:
+    def _start_run(self, stage: str, step: int, start: int, end: int) -> None:
+        """A new run: its first chunk (up to ``step``) is done; rates count from here on."""
         if self.bar is not None:
             self.bar.close()
         self.run = (start, end)
+        self.label = self.scene if stage == self.scene else f"{self.scene}:{stage}"
+        self.first_step = step
         self.started = time.perf_counter()
         if self.tty:
             self.bar = tqdm(
                 total=end - start,
-                desc=f"{self.scene}:{stage}",
+                initial=step - start,
+                desc=self.label,
                 unit=" steps",
                 unit_scale=True,
                 file=self.stream,
                 dynamic_ncols=True,
             )
+        else:
+            self._line(step, self.started)
+
+    def _line(self, step: int, now: float) -> None:
+        """One plain progress line (percent, steps, elapsed, time left, rate)."""
+        self.last_line = now
+        elapsed = now - self.started
+        rate = (
+            (step - self.first_step) / elapsed if elapsed > 0 and step > self.first_step else None
+        )
+        start, end = self.run
+        line = tqdm.format_meter(
+            step - start,
+            end - start,
+            elapsed,
+            prefix=self.label,
+            unit=" steps",
+            unit_scale=True,
+            rate=rate,
+        )
+        self.stream.write(line + "\n")
+        self.stream.flush()
