@@ -15,8 +15,7 @@ import sys
 from . import __version__, units
 from .engine import EngineError
 from .io.results import ResultsFileError
-from .model import build_model
-from .numerics import STABLE_FRACTION, contact_law, simulated_model, time_step
+from .numerics import STABLE_FRACTION, prepare
 from .orchestration.build import OutputExistsError, build, check_ranks
 from .orchestration.export import export
 from .orchestration.folder import RunFolderError, check_output
@@ -28,9 +27,13 @@ from .spec import SpecError, load_spec
 
 def _check(args) -> int:
     spec = load_spec(args.spec)
-    model = build_model(spec)
-    step = time_step(spec, model)
-    law = contact_law(spec, model)
+    prepared = prepare(spec)
+    model, step, law, simulated = (
+        prepared.model,
+        prepared.time_step,
+        prepared.contact,
+        prepared.simulated,
+    )
     lx, ly, _ = model.box.lengths
     lines = [
         f"spec          {args.spec}: {spec.name}",
@@ -50,7 +53,6 @@ def _check(args) -> int:
             f"needles       {len(model.needle_points)} per cell, diameter {model.needle_diameter:.4g} um,"
             f" lapping {spec.stitch.notation}"
         )
-    simulated = simulated_model(spec, model)
     for bond_type in simulated.bond_types:
         lines.append(
             f"  bond {bond_type.name:<20} K = {bond_type.k:.4g} nN/um  r0 = {bond_type.r0:.5g} um"
