@@ -72,11 +72,6 @@ def render_view(
         ImportError: ``ovito`` (the ``render`` extra) is not installed.
         RuntimeError: OVITO found no working Vulkan driver.
     """
-    from ovito.data import DataCollection, Particles
-    from ovito.pipeline import Pipeline, StaticSource
-    from ovito.qt_compat import QtGui
-    from ovito.vis import StandardRenderer, Viewport
-
     h, v, _, _ = VIEWS[view]
     tiled, copies = tile_cell(
         positions, box_lengths, tilt_xy, repeat if view != "side" else (repeat[0], 1)
@@ -89,27 +84,58 @@ def render_view(
     fov = 0.5 * (
         max(extent[v], extent[h] * aspect) if aspect <= 1 else max(extent[h], extent[v] / aspect)
     )
-    particles = Particles(count=len(tiled))
-    particles.create_property("Position", data=tiled)
-    particles.create_property("Radius", data=size / 2.0)
-    particles.create_property("Color", data=_colours(np.tile(type_id, copies), stitch_type))
+    colours = _colours(np.tile(type_id, copies), stitch_type)
+    return _ovito_render(tiled, size, colours, view, extent.max(), fov, (width_px, height_px))
+
+
+def _ovito_render(
+    positions: np.ndarray,
+    diameter: np.ndarray,
+    colours: np.ndarray,
+    view: str,
+    distance: float,
+    fov: float,
+    size_px: tuple[int, int],
+) -> np.ndarray:
+    """(height, width, 3) uint8 OVITO render of spheres in an orthographic view.
+
+    ``positions`` (N, 3) um, ``diameter`` (N,) um, ``colours`` (N, 3) RGB in [0, 1]; the camera
+    looks along :data:`CAMERAS` ``[view]`` at the centre of the bounding box from ``distance``
+    (um) away, ``fov`` (um) is half the visible range along the shorter image side,
+    ``size_px`` is (width, height).
+    """
+    from ovito.data import DataCollection, Particles
+    from ovito.pipeline import Pipeline, StaticSource
+    from ovito.vis import StandardRenderer, Viewport
+
+    particles = Particles(count=len(positions))
+    particles.create_property("Position", data=positions)
+    particles.create_property("Radius", data=diameter / 2.0)
+    particles.create_property("Color", data=colours)
     data = DataCollection()
     data.objects.append(particles)
     pipeline = Pipeline(source=StaticSource(data=data))
     direction, up = CAMERAS[view]
-    centre = 0.5 * (tiled.min(axis=0) + tiled.max(axis=0))
+    centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0))
     viewport = Viewport(
         type=Viewport.Type.Ortho,
-        camera_pos=centre - np.asarray(direction) * extent.max(),
+        camera_pos=centre - np.asarray(direction) * distance,
         camera_dir=direction,
         camera_up=up,
         fov=fov,
     )
     pipeline.add_to_scene()
     try:
-        image = viewport.render_image(size=(width_px, height_px), renderer=StandardRenderer())
+        image = viewport.render_image(size=size_px, renderer=StandardRenderer())
     finally:
         pipeline.remove_from_scene()
+    return _rgb_array(image)
+
+
+def _rgb_array(image) -> np.ndarray:
+    """(height, width, 3) uint8 copy of a ``QImage`` (its rows are padded to 4 bytes)."""
+    from ovito.qt_compat import QtGui
+
     image = image.convertToFormat(QtGui.QImage.Format.Format_RGB888)
     rows = np.frombuffer(image.constBits(), np.uint8, image.bytesPerLine() * image.height())
     rows = rows.reshape(image.height(), -1)[:, : 3 * image.width()]

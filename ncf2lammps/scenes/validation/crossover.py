@@ -106,16 +106,26 @@ def lattice(n: int, per_pitch: int, spacing: float) -> tuple[Model, list[tuple[i
     return model, [tuple(int(i) + 1 for i in t) for t in triples.reshape(-1, 3)]
 
 
-def run(workdir: Path, full: bool = False) -> CaseResult:
-    """Run the crossover-spring shear in ``workdir``; returns its rows and plot."""
-    n, per_pitch, spacing = 3, 5, D / 2
-    pitch, frame = per_pitch * spacing, n * per_pitch * spacing
-    model, angles = lattice(n, per_pitch, spacing)
-    angle_k = units.to_micro(TORSION / 2.0, "J")
+def _shear(
+    workdir: Path,
+    model: Model,
+    angles: list[tuple[int, int, int]],
+    angle_k: float,
+    pitch: float,
+    frame: float,
+    step_deg: float,
+) -> tuple[dict[str, float], dict[str, np.ndarray]]:
+    """Shear the cell to ``ANGLES[-1] + step_deg`` in intervals of ``step_deg`` (deg).
+
+    ``angle_k`` is K (fJ/rad^2), ``pitch`` and ``frame`` (um) the crossing pitch and cell edge.
+    Returns the box at rest (``xy``, ``ly``, ``lx``, ``lz``, um) and the (chunks,) records per
+    interval: ``fn_avg``, ``pxy``, ``pyy`` (interval averages: F_N nN/um, pressures kPa), and at
+    its end ``fn`` (virial F_N after ``run 0``), ``xy``, ``ly`` (um), ``pe``, ``ke`` (angle and
+    kinetic energy, pg um^2/us^2).
+    """
     mass = float(model.mass[0])
     k_bond = model.bond_types[0].k
     dt = 0.5 * math.sqrt(mass / (2 * k_bond))
-    step_deg = 0.25 if full else 0.5
     chunk = 100
     chunks = round((ANGLES[-1] + step_deg) / step_deg)
     rate = math.radians(step_deg) / (chunk * dt)
@@ -140,18 +150,32 @@ def run(workdir: Path, full: bool = False) -> CaseResult:
             rec["xy"][i], rec["ly"][i] = lmp.variable("box_xy"), lmp.variable("box_ly")
             rec["pe"][i] = lmp.variable("energy") - lmp.variable("kinetic")
             rec["ke"][i] = lmp.variable("kinetic")
-    lx, lz = start["lx"], start["lz"]
-    xy, ly = np.r_[start["xy"], rec["xy"]], np.r_[start["ly"], rec["ly"]]
-    g = np.arctan2(xy, ly)  # box angle at 0 and at each step end
-    work, fn_work_step = work_force(g, xy, lx, ly, -rec["pxy"] * lz, -rec["pyy"] * lz)
-    loaded = np.abs(rec["fn_avg"]) > 0.1 * np.abs(rec["fn_avg"]).max()
-    worst = float(np.max(np.abs(fn_work_step[loaded] / rec["fn_avg"][loaded] - 1)))
+    return start, rec
+
+
+def _angle_checks(
+    g: np.ndarray,
+    lx: float,
+    ly: np.ndarray,
+    work: np.ndarray,
+    fn: np.ndarray,
+    angle_k: float,
+    pitch: float,
+    step_deg: float,
+) -> tuple[list[Check], list[tuple[float, float, float, float]]]:
+    """Virial and work F_N against the law at each of :data:`ANGLES`.
+
+    ``g`` (chunks + 1,) rad and ``ly`` (chunks + 1,) um are the box angle and height at rest and
+    at each interval end, ``lx`` (um) the box length, ``work`` (chunks,) the pressure work per
+    interval (pg um^2/us^2), ``fn`` (chunks,) the virial F_N at each interval end (nN/um).
+    Returns the checks and one row (angle deg, law, virial, work F_N, nN/um) per angle.
+    """
     checks = []
     table = []
     for angle in ANGLES:
         i = round(angle / step_deg)  # step end i sits at the angle (index into g)
         expected = float(analytic_fn(g[i], angle_k, pitch))
-        virial = float(rec["fn"][i - 1])
+        virial = float(fn[i - 1])
         fn_work = float((work[i - 1] + work[i]) / (lx * ly[i] * (g[i + 1] - g[i - 1])))
         table.append((math.degrees(g[i]), expected, virial, fn_work))
         for what, value in (("virial", virial), ("work", fn_work)):
@@ -165,6 +189,51 @@ def run(workdir: Path, full: bool = False) -> CaseResult:
                     0.01,
                 )
             )
+    return checks, table
+
+
+def _plot(
+    workdir: Path,
+    g: np.ndarray,
+    fn: np.ndarray,
+    fn_work_step: np.ndarray,
+    angle_k: float,
+    pitch: float,
+) -> Path:
+    """Plot virial F_N (chunks,) at the interval ends and work F_N (chunks,) at their middles
+    (nN/um, drawn in N/m) against the box angle ``g`` (chunks + 1,) rad, with the law."""
+    to_n_m = units.from_micro(1.0, "N_m")
+    deg = np.degrees(g[1:])
+    mid = np.degrees(0.5 * (g[1:] + g[:-1]))
+    return line_plot(
+        workdir / "shear_crossover.png",
+        [
+            (deg, fn * to_n_m, "virial -(Pxy - Pyy xy/ly) lz"),
+            (mid, fn_work_step * to_n_m, "dW / (lx ly dg)"),
+            (deg, analytic_fn(g[1:], angle_k, pitch) * to_n_m, "2 K g / (p^2 cos g)"),
+        ],
+        "shear angle g (deg)",
+        "F_N (N/m)",
+        "Case 5c: 0/90 cell with torsional crossover springs",
+        styles=["-", "o", "--"],
+    )
+
+
+def run(workdir: Path, full: bool = False) -> CaseResult:
+    """Run the crossover-spring shear in ``workdir``; returns its rows and plot."""
+    n, per_pitch, spacing = 3, 5, D / 2
+    pitch, frame = per_pitch * spacing, n * per_pitch * spacing
+    model, angles = lattice(n, per_pitch, spacing)
+    angle_k = units.to_micro(TORSION / 2.0, "J")
+    step_deg = 0.25 if full else 0.5
+    start, rec = _shear(workdir, model, angles, angle_k, pitch, frame, step_deg)
+    lx, lz = start["lx"], start["lz"]
+    xy, ly = np.r_[start["xy"], rec["xy"]], np.r_[start["ly"], rec["ly"]]
+    g = np.arctan2(xy, ly)  # box angle at 0 and at each step end
+    work, fn_work_step = work_force(g, xy, lx, ly, -rec["pxy"] * lz, -rec["pyy"] * lz)
+    loaded = np.abs(rec["fn_avg"]) > 0.1 * np.abs(rec["fn_avg"]).max()
+    worst = float(np.max(np.abs(fn_work_step[loaded] / rec["fn_avg"][loaded] - 1)))
+    checks, table = _angle_checks(g, lx, ly, work, rec["fn"], angle_k, pitch, step_deg)
     i_end = round(ANGLES[-1] / step_deg)
     checks.append(
         Check(
@@ -196,18 +265,5 @@ def run(workdir: Path, full: bool = False) -> CaseResult:
         + f". Worst interval virial vs work {worst:.1e}; max kinetic / angle energy"
         f" {float(np.max(rec['ke']) / rec['pe'][-1]):.1e}."
     )
-    deg = np.degrees(g[1:])
-    mid = np.degrees(0.5 * (g[1:] + g[:-1]))
-    plot = line_plot(
-        workdir / "shear_crossover.png",
-        [
-            (deg, rec["fn"] * to_n_m, "virial -(Pxy - Pyy xy/ly) lz"),
-            (mid, fn_work_step * to_n_m, "dW / (lx ly dg)"),
-            (deg, analytic_fn(g[1:], angle_k, pitch) * to_n_m, "2 K g / (p^2 cos g)"),
-        ],
-        "shear angle g (deg)",
-        "F_N (N/m)",
-        "Case 5c: 0/90 cell with torsional crossover springs",
-        styles=["-", "o", "--"],
-    )
+    plot = _plot(workdir, g, rec["fn"], fn_work_step, angle_k, pitch)
     return CaseResult(CASE, checks, [plot], note)

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ... import units
+from ...model import Model
 from ...numerics import ContactLaw
 from .common import RHO_CARBON, CaseResult, ChainSet, Check, D, fibre, lammps_case
 from .plots import line_plot
@@ -33,26 +34,38 @@ CASE = "2 Hertz"
 TOLERANCE = 0.005
 
 
-def run(workdir: Path, full: bool = False) -> CaseResult:
-    """Run case 2 in ``workdir``; returns its rows and plot."""
-    d_small = 30.0
-    modulus = units.to_micro(1.0, "GPa")
-    e_star = modulus / 2.0
-    r_star = (D / 2) * (d_small / 2) / (D / 2 + d_small / 2)
-    overlap_max = 0.05 * d_small
-    load_max = 4.0 / 3.0 * e_star * math.sqrt(r_star) * overlap_max**1.5
-    stiffness = 2.0 * e_star * math.sqrt(r_star * overlap_max)
+def _bead_pair(d_small: float, modulus: float) -> tuple[Model, float]:
+    """A carbon bead (d = D) at the origin and a stitch-size bead (``d_small``, um) touching it
+    along +x, both of contact modulus ``modulus`` (kPa); returns the model and the centre
+    distance at first contact (um)."""
     chains = ChainSet()
     for name, d, rho in (("carbon", D, RHO_CARBON), ("stitch", d_small, 1.38)):
         chains.add_type(*fibre(name, d, d / 2, modulus, rho))
     reach = (D + d_small) / 2
     chains.add(np.zeros((1, 3)), 0)
     chains.add(np.array([[reach, 0.0, 0.0]]), 1)
-    model = chains.model([-2 * D, -2 * D, -2 * D], [3 * D, 2 * D, 2 * D])
+    return chains.model([-2 * D, -2 * D, -2 * D], [3 * D, 2 * D, 2 * D]), reach
+
+
+def _staircase(
+    workdir: Path,
+    model: Model,
+    reach: float,
+    modulus: float,
+    stiffness: float,
+    load_max: float,
+    levels: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Press the small bead on with ``levels`` loads up to ``load_max`` (nN), each held.
+
+    ``stiffness`` (nN/um) is the contact stiffness at the largest overlap, which sets the time
+    step and the critical damping. Returns (levels,) arrays: the applied load (nN), the overlap
+    (um) and the contact force on the fixed bead (nN) at the end of each hold.
+    """
     mass = float(model.mass[1])
     dt = 0.1 * math.sqrt(mass / stiffness)
     law = ContactLaw("hertz", modulus, stiffness, 0.0, 0.0, 0.0)
-    levels, hold = 8, 4000
+    hold = 4000
     values = {
         "gamma": 2.0 * math.sqrt(mass * stiffness),
         "load_max": load_max,
@@ -67,11 +80,16 @@ def run(workdir: Path, full: bool = False) -> CaseResult:
             load[i] = lmp.variable("load")
             overlap[i] = lmp.variable("overlap")
             contact_force[i] = lmp.variable("contact")
-    hertz = 4.0 / 3.0 * e_star * math.sqrt(r_star) * overlap**1.5
-    worst = int(np.argmax(np.abs(load / hertz - 1.0)))
-    exponent = float(np.polyfit(np.log(overlap), np.log(load), 1)[0])
+    return load, overlap, contact_force
+
+
+def _plot(
+    workdir: Path, overlap: np.ndarray, load: np.ndarray, e_star: float, r_star: float
+) -> Path:
+    """Plot the (levels,) loads (nN, drawn in mN) against the overlaps (um) with the law for
+    ``e_star`` (kPa) and ``r_star`` (um)."""
     fine = np.linspace(0.0, overlap.max() * 1.05, 100)
-    plot = line_plot(
+    return line_plot(
         workdir / "hertz.png",
         [
             (overlap, units.from_micro(load, "N") * 1e3, "applied load (LAMMPS equilibrium)"),
@@ -86,6 +104,26 @@ def run(workdir: Path, full: bool = False) -> CaseResult:
         "Case 2: Hertz contact, d = 69 um on d = 30 um, E = 1 GPa",
         styles=["o", "-"],
     )
+
+
+def run(workdir: Path, full: bool = False) -> CaseResult:
+    """Run case 2 in ``workdir``; returns its rows and plot."""
+    d_small = 30.0
+    modulus = units.to_micro(1.0, "GPa")
+    e_star = modulus / 2.0
+    r_star = (D / 2) * (d_small / 2) / (D / 2 + d_small / 2)
+    overlap_max = 0.05 * d_small
+    load_max = 4.0 / 3.0 * e_star * math.sqrt(r_star) * overlap_max**1.5
+    stiffness = 2.0 * e_star * math.sqrt(r_star * overlap_max)
+    model, reach = _bead_pair(d_small, modulus)
+    levels = 8
+    load, overlap, contact_force = _staircase(
+        workdir, model, reach, modulus, stiffness, load_max, levels
+    )
+    hertz = 4.0 / 3.0 * e_star * math.sqrt(r_star) * overlap**1.5
+    worst = int(np.argmax(np.abs(load / hertz - 1.0)))
+    exponent = float(np.polyfit(np.log(overlap), np.log(load), 1)[0])
+    plot = _plot(workdir, overlap, load, e_star, r_star)
     checks = [
         Check(
             CASE,

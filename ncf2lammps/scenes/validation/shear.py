@@ -33,6 +33,7 @@ import numpy as np
 
 from ... import units
 from ...analysis.shear import work_force
+from ...model import BondType, Model
 from .common import (
     E_CARBON,
     RHO_CARBON,
@@ -131,9 +132,10 @@ def _zero_force(workdir: Path, full: bool) -> tuple[Check, tuple]:
     return check, (np.degrees(rec["g"]), rec["fn"] / membrane, "0/90 frictionless: F_N / N0")
 
 
-def _identity(workdir: Path, full: bool) -> tuple[list[Check], tuple, str]:
-    """Sub-case (b): diagonal chains, virial F_N against work and energy."""
-    frame, n_chains, per_chain = 10 * D, 3, 28
+def _diagonal_cell(frame: float, n_chains: int, per_chain: int) -> tuple[Model, BondType]:
+    """``n_chains`` closed chains of ``per_chain`` beads along the diagonal a + b of a
+    ``frame`` x ``frame`` (um) cell, pretensioned by :data:`PRETENSION` (bond rest length
+    shortened); returns the model and its bond type."""
     diagonal = math.sqrt(2.0) * frame
     step = diagonal / per_chain
     atom, bond, density = fibre("diagonal", D, step, E_CARBON, RHO_CARBON)
@@ -144,7 +146,13 @@ def _identity(workdir: Path, full: bool) -> tuple[list[Check], tuple, str]:
     for c in range(n_chains):
         x = ((c + 0.5) / n_chains + t) * frame % frame
         chains.add(np.column_stack([x, t * frame, np.zeros(per_chain)]), 0, closed=True)
-    model = chains.model([0.0, 0.0, -3 * D], [frame, frame, 3 * D])
+    return chains.model([0.0, 0.0, -3 * D], [frame, frame, 3 * D]), bond
+
+
+def _identity(workdir: Path, full: bool) -> tuple[list[Check], tuple, str]:
+    """Sub-case (b): diagonal chains, virial F_N against work and energy."""
+    frame, n_chains, per_chain = 10 * D, 3, 28
+    model, bond = _diagonal_cell(frame, n_chains, per_chain)
     mass = float(model.mass[0])
     dt = 0.5 * math.sqrt(mass / (2 * bond.k))
     chunk, chunks = (500, 100) if full else (500, 60)
@@ -161,6 +169,21 @@ def _identity(workdir: Path, full: bool) -> tuple[list[Check], tuple, str]:
         workdir, "validation/shear.lmp.j2", model, dt, contact(kn, mass, 0.0), **values
     ) as lmp:
         rec = _shear(lmp, chunk, chunks)
+    lx = rec["lx"][0]
+    # F_N = n T / L, chain length L = |a + b| and tension T = 2 k (L / per_chain - r0)
+    length = np.sqrt(lx**2 + frame**2 + 2 * lx * frame * np.sin(rec["g"]))
+    analytic = n_chains * 2 * bond.k * (length / per_chain - bond.r0) / length
+    return _judge_identity(rec, analytic)
+
+
+def _judge_identity(
+    rec: dict[str, np.ndarray], analytic: np.ndarray
+) -> tuple[list[Check], tuple, str]:
+    """Virial F_N against pressure work, energy change and the law ``analytic`` (chunks,) nN/um.
+
+    ``rec`` is the :func:`_shear` record. Returns the checks, the plot curves (angle deg, virial
+    F_N, angle deg, energy F_N, law; each (chunks,), F_N in nN/um) and the note.
+    """
     g = np.r_[0.0, rec["g"]]
     xy = np.r_[rec["xy_start"], rec["xy"]]
     ly = np.r_[rec["ly_start"], rec["ly"]]
@@ -170,8 +193,6 @@ def _identity(workdir: Path, full: bool) -> tuple[list[Check], tuple, str]:
     fn_energy = np.diff(energy) / (lx * 0.5 * (ly[1:] + ly[:-1]) * np.diff(g))
     loaded = np.abs(rec["fn"]) > 0.1 * np.abs(rec["fn"]).max()
     virial_vs_work = float(np.max(np.abs(fn_work[loaded] / rec["fn"][loaded] - 1)))
-    length = np.sqrt(lx**2 + frame**2 + 2 * lx * frame * np.sin(rec["g"]))
-    analytic = n_chains * 2 * bond.k * (length / per_chain - bond.r0) / length
     checks = [
         Check(
             CASE,

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...engine import Engine
 from .common import (
     E_CARBON,
     RHO_CARBON,
@@ -64,17 +65,58 @@ def _chain(n: int, displacement: np.ndarray) -> tuple:
     return model, k, mass, spacing
 
 
-def _time_of_flight(workdir: Path, full: bool) -> tuple[list[Check], Path]:
-    """Pulse speed and energy drift (sub-cases a and c)."""
-    n, start, width, strain = 300, 60.0, 10.0, 1e-4
-    speed = math.sqrt(E_CARBON / RHO_CARBON)
+def _pulse(n: int, start: float, width: float, strain: float) -> np.ndarray:
+    """(n,) um displacement of a compressive Gaussian pulse of peak ``strain``, centred on bead
+    ``start``, ``width`` beads wide (the integral of the strain ``-eps g``)."""
     spacing = D / 2.0
     j = np.arange(n)
     erf = np.vectorize(math.erf)
     # right-going wave u = f(x - c t): strain u' = -eps g, velocity -c u' = c eps g
     displacement = -strain * spacing * width * math.sqrt(math.pi / 2.0)
-    displacement = displacement * (1.0 + erf((j - start) / (width * math.sqrt(2.0))))
-    model, k, mass, _ = _chain(n, displacement)
+    return displacement * (1.0 + erf((j - start) / (width * math.sqrt(2.0))))
+
+
+def _track(
+    lmp: Engine, rest: np.ndarray, dt: float, steps: int, every: int
+) -> tuple[list[float], list[float]]:
+    """Run ``steps`` steps, every ``every`` steps reading the momentum centroid
+    ``sum(x v) / sum(v)`` (um) over the (n,) rest positions ``rest`` (um); returns the times
+    (us) and the centroids."""
+    times, centroid = [], []
+    for step in range(0, steps, every):
+        velocity = lmp.gather("v", 3)[:, 0]
+        times.append(step * dt)
+        centroid.append(float(np.sum(rest * velocity) / np.sum(velocity)))
+        lmp.command(f"run {every} pre no post no")
+    return times, centroid
+
+
+def _flight_plot(
+    workdir: Path, times: np.ndarray, centroid: np.ndarray, origin: float, speed: float
+) -> Path:
+    """Plot the centroid (um) against time (us), each (samples,), with ``origin + c t`` (um)."""
+    return line_plot(
+        workdir / "waves_flight.png",
+        [
+            (times * 1e3, centroid / 1e3, "momentum centroid"),
+            (
+                times * 1e3,
+                (origin + speed * times) / 1e3,
+                f"c = sqrt(E/rho) = {speed:.0f} m/s",
+            ),
+        ],
+        "time (ns)",
+        "position (mm)",
+        "Case 1a: axial pulse time of flight",
+    )
+
+
+def _time_of_flight(workdir: Path, full: bool) -> tuple[list[Check], Path]:
+    """Pulse speed and energy drift (sub-cases a and c)."""
+    n, start, width, strain = 300, 60.0, 10.0, 1e-4
+    speed = math.sqrt(E_CARBON / RHO_CARBON)
+    spacing = D / 2.0
+    model, k, mass, _ = _chain(n, _pulse(n, start, width, strain))
     dt = 0.5 * math.sqrt(mass / k)
     law = contact(k / 10.0, mass, 0.0)
     every, chunk = 4, 1000
@@ -84,17 +126,12 @@ def _time_of_flight(workdir: Path, full: bool) -> tuple[list[Check], Path]:
         "pulse_width": width * spacing,
         "chunk": chunk,
     }
-    rest = j * spacing
-    times, centroid = [], []
+    rest = np.arange(n) * spacing
     with lammps_case(
         workdir / "flight", "validation/waves.lmp.j2", model, dt, law, **values
     ) as lmp:
         travel_steps = int((n - start - 5 * width) * spacing / speed / dt)
-        for step in range(0, travel_steps, every):
-            velocity = lmp.gather("v", 3)[:, 0]
-            times.append(step * dt)
-            centroid.append(float(np.sum(rest * velocity) / np.sum(velocity)))
-            lmp.command(f"run {every} pre no post no")
+        times, centroid = _track(lmp, rest, dt, travel_steps, every)
         # energy: align with the averaging chunks, run on with the pulse bouncing at the ends
         lmp.command(f"run {chunk - lmp.step % chunk}")
         energy = record(lmp, "energy", 2, chunk, 40 if full else 20)[:, 0]
@@ -102,20 +139,7 @@ def _time_of_flight(workdir: Path, full: bool) -> tuple[list[Check], Path]:
     inside = (centroid > (start + 2 * width) * spacing) & (centroid < (n - 1 - 4 * width) * spacing)
     measured = float(np.polyfit(times[inside], centroid[inside], 1)[0])
     drift = float(abs(energy[-1] - energy[0]) / energy[0])
-    plot = line_plot(
-        workdir / "waves_flight.png",
-        [
-            (times * 1e3, centroid / 1e3, "momentum centroid"),
-            (
-                times * 1e3,
-                (start * spacing + speed * times) / 1e3,
-                f"c = sqrt(E/rho) = {speed:.0f} m/s",
-            ),
-        ],
-        "time (ns)",
-        "position (mm)",
-        "Case 1a: axial pulse time of flight",
-    )
+    plot = _flight_plot(workdir, times, centroid, start * spacing, speed)
     checks = [
         Check(CASE, "wave speed c (m/s)", "c = sqrt(E/rho)", speed, measured, SPEED_TOLERANCE),
         Check(
