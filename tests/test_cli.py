@@ -90,6 +90,7 @@ def test_every_verb_has_help():
         assert cli(verb, "--help").returncode == 0
 
 
+@pytest.mark.lammps
 def test_run_with_relative_output_folder(tmp_path):
     """The README runs with a relative -o: the whole chain must resolve it once."""
     spec = tmp_path / "spec.toml"

@@ -23,6 +23,7 @@ def compacted(coarse_manufactured, tmp_path_factory):
     return spec, folder, read_results(results)["compaction"]
 
 
+@pytest.mark.lammps
 def test_contract_names_and_lengths(compacted):
     _, folder, group = compacted
     lengths = {len(group[k]) for k in ("gap_mm", "pressure_kPa", "fvf")}
@@ -41,6 +42,7 @@ def test_contract_names_and_lengths(compacted):
     assert "final_pressure" not in (folder / "decks" / "in.compaction.lmp").read_text()
 
 
+@pytest.mark.lammps
 def test_pressure_rises_monotonically_after_smoothing(compacted):
     """Closing plates on a frictional granular layer: the smoothed pressure never drops by more
     than 10 % of the running maximum once it exceeds 1 kPa (dynamic ripple aside)."""
@@ -52,6 +54,7 @@ def test_pressure_rises_monotonically_after_smoothing(compacted):
     assert pressure[-1] > 18.0  # Vf 0.55 is past the 18 kPa of the experiment
 
 
+@pytest.mark.lammps
 def test_interpolated_attributes_agree_with_curve(compacted):
     """t@1 kPa, t@18 kPa lie on the recorded (smoothed) curve; Vf = A / (rho t)."""
     _, _, group = compacted
@@ -68,6 +71,7 @@ def test_interpolated_attributes_agree_with_curve(compacted):
     np.testing.assert_allclose(group["fvf"] * gap, group["fvf"][0] * gap[0], rtol=1e-12)
 
 
+@pytest.mark.lammps
 def test_plates_stop_at_the_first_record_past_max_pressure(
     compacted, coarse_manufactured, tmp_path
 ):
@@ -133,6 +137,7 @@ def test_curve_energetics_of_a_linear_spring():
     assert curve.energy_balance_residual == pytest.approx(0.0, abs=1e-12)
 
 
+@pytest.mark.lammps
 def test_mat_only_compacts_without_manufacture(tmp_path):
     """All scenes of a mat without stitch: no manufacture; compaction and shear from the mat."""
     spec = case_spec("mat-only").replace(

@@ -277,6 +277,7 @@ def test_fibre_stitch_friction_only_on_fibre_stitch_pairs(tmp_path):
 # --- LAMMPS -----------------------------------------------------------------------------------
 
 
+@pytest.mark.lammps
 def test_lammps_runs_every_option_and_bends_by_the_law(tmp_path):
     """All options on: LAMMPS reads the files, the wavy chains start with zero angle energy
     (rest angles from the geometry, < 1e-9 EI/s), 100 steps stay finite; then a straight chain

@@ -62,6 +62,7 @@ def reference(coarse_manufactured, tmp_path_factory):
     return read_results(run_scenes(fast_spec(), folder, ["compaction", "shear"]))
 
 
+@pytest.mark.lammps
 def test_bundle_runs_under_mpiexec_lmp_and_its_report_matches_python(reference, tmp_path):
     """t@1 kPa and F_N(15-20 deg) of the bundle on 2 ranks (its own manufacture included) within
     2 % of the Python-driven run on 1 rank."""
@@ -91,6 +92,7 @@ def test_bundle_runs_under_mpiexec_lmp_and_its_report_matches_python(reference, 
     assert list(bundle.glob("compaction.checkpoint.*.restart"))
 
 
+@pytest.mark.lammps
 def test_one_and_two_ranks_agree(reference, coarse_manufactured, tmp_path):
     """t@1 kPa and F_N(15-20 deg) of compaction and shear on 2 ranks (Python driver on every rank
     under mpiexec) within 2 % of 1 rank, from the same manufactured cell."""
@@ -131,6 +133,7 @@ def killed_and_resumed(tmp_path_factory):
     return folder, killed, out
 
 
+@pytest.mark.lammps
 def test_killed_run_is_incomplete_and_resumes_to_a_complete_run(killed_and_resumed):
     """`run` killed in the relaxation stage of manufacture leaves results.h5 marked incomplete
     and no summary; `run --resume` continues from the checkpoint and completes the file."""
@@ -143,6 +146,7 @@ def test_killed_run_is_incomplete_and_resumes_to_a_complete_run(killed_and_resum
     assert results["manufacture"]["attrs"]["resumed"]
 
 
+@pytest.mark.lammps
 def test_resumed_run_ends_within_1_percent_of_an_unbroken_run(
     killed_and_resumed, reference, coarse_manufactured
 ):

@@ -27,6 +27,7 @@ def test_data_file_round_trip_is_exact(case_models, case, tmp_path):
     np.testing.assert_array_equal(data.box.hi, model.box.hi)
 
 
+@pytest.mark.lammps
 @pytest.mark.parametrize("case", CASES)
 def test_lammps_reads_model_and_agrees(case_models, case, tmp_path):
     """LAMMPS reads model.data, runs 0 steps; counts, positions and masses equal the model's
@@ -116,6 +117,7 @@ def _controlled_run(folder, resume: bool, kill_at: int | None = None) -> float:
         return engine.variable("control")
 
 
+@pytest.mark.lammps
 def test_resume_restores_a_feedback_controller_exactly(tmp_path):
     """A controller's output after kill at step 125 (last checkpoint 100) and resume equals the
     unbroken run's to 1e-12: `fix controller` reads its control variable once, when defined, so
@@ -128,6 +130,7 @@ def test_resume_restores_a_feedback_controller_exactly(tmp_path):
     assert resumed == pytest.approx(unbroken, rel=1e-12)
 
 
+@pytest.mark.lammps
 def test_fast_contact_style_gives_the_general_styles_forces(coarse_manufactured, tmp_path):
     """One hooke law for every pair renders ``pair_style gran/hooke/history``; a per-pair
     friction renders ``pair_style granular``. Given the same friction everywhere, the two agree

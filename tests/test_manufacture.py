@@ -19,6 +19,7 @@ def manufactured(coarse_manufactured):
     return case_spec("hpt310-coarse"), folder, read_results(folder / "results.h5")
 
 
+@pytest.mark.lammps
 def test_results_follow_the_contract(manufactured):
     _, folder, results = manufactured
     assert bool(results["attrs"]["complete"])
@@ -37,6 +38,7 @@ def test_results_follow_the_contract(manufactured):
         assert fh["manufacture/time_us"].dtype == np.float64
 
 
+@pytest.mark.lammps
 def test_stitch_tension_within_5_percent_and_quasi_static(manufactured):
     spec, _, results = manufactured
     attrs = results["manufacture"]["attrs"]
@@ -45,6 +47,7 @@ def test_stitch_tension_within_5_percent_and_quasi_static(manufactured):
     assert 0.2 < attrs["thickness_mm"] < 1.0
 
 
+@pytest.mark.lammps
 def test_pretension_work_is_the_integral_of_tension_over_rest_length(manufactured):
     """The deck's work integral W = L0 integral T dstrain (its denominator of kinetic / work) equals
     the trapezoidal integral of the recorded tension over the recorded stitch strain (one row
@@ -69,6 +72,7 @@ def test_pretension_work_is_the_integral_of_tension_over_rest_length(manufacture
     assert np.all(np.isnan(group["kinetic_ratio"][~loaded]))
 
 
+@pytest.mark.lammps
 def test_channels_open_after_needle_step(manufactured):
     """No fibre bead centre closer to a needle axis than the needle radius (images included)."""
     _, _, results = manufactured
@@ -77,6 +81,7 @@ def test_channels_open_after_needle_step(manufactured):
     assert attrs["insertion_max_overlap_d"] <= 0.05
 
 
+@pytest.mark.lammps
 def test_manufactured_state_keeps_the_model(manufactured):
     """Every atom and bond survives; the pretensioned stitch rest lengths are in the file."""
     _, folder, _ = manufactured

@@ -48,6 +48,7 @@ def frictionless_mat(tmp_path_factory):
     return spec, folder, results["shear"]
 
 
+@pytest.mark.lammps
 def test_frictionless_pretensioned_mat_has_no_shear_force(frictionless_mat):
     """Straight chains keep their length under picture-frame kinematics: F_N = 0 (docs/design.md §7).
 
@@ -63,6 +64,7 @@ def test_frictionless_pretensioned_mat_has_no_shear_force(frictionless_mat):
     assert group["attrs"]["final_angle_deg"] == pytest.approx(40.0, abs=0.05)
 
 
+@pytest.mark.lammps
 def test_box_follows_picture_frame_kinematics(frictionless_mat):
     """xy = Lb sin g and ly = Lb cos g through every chunk and run: each record holds the box
     of its own step, to 1e-3 of one box update's increment (the box moves every DEFORM_EVERY
@@ -89,6 +91,7 @@ def coarse_sheared(coarse_manufactured, tmp_path_factory):
     return folder, read_results(folder / "results.h5")
 
 
+@pytest.mark.lammps
 def test_results_follow_the_contract(coarse_sheared):
     folder, results = coarse_sheared
     group = results["shear"]
@@ -103,6 +106,7 @@ def test_results_follow_the_contract(coarse_sheared):
         assert (folder / "figures" / name).stat().st_size > 10_000
 
 
+@pytest.mark.lammps
 def test_virial_and_work_forces_agree(coarse_sheared):
     """F_N from the virial and from the box work agree within 2 % (1-degree means, loaded)."""
     _, results = coarse_sheared
@@ -116,6 +120,7 @@ def test_virial_and_work_forces_agree(coarse_sheared):
     assert total_work == pytest.approx(total_virial, rel=0.02)
 
 
+@pytest.mark.lammps
 def test_shear_of_a_stitched_cell_starts_from_the_manufactured_state(coarse_sheared):
     folder, _ = coarse_sheared
     deck = (folder / "decks" / "in.shear.lmp").read_text()
@@ -124,6 +129,7 @@ def test_shear_of_a_stitched_cell_starts_from_the_manufactured_state(coarse_shea
     assert "fix             pretension" not in deck
 
 
+@pytest.mark.lammps
 @pytest.mark.slow
 def test_halving_the_rate_moves_the_force_less_than_5_percent(coarse_manufactured, tmp_path):
     """Quasi-static at the derived default rate: F_N(45 deg) moves < 5 % at half the rate."""

@@ -84,12 +84,14 @@ def outcome(spec, folder, scene="compaction"):
         "one-chain-per-ply",
     ],
 )
+@pytest.mark.lammps
 def test_extreme_cases_finish_or_stop_with_diagnosis(tables, expected, tmp_path):
     spec = case_spec("mat-only").replace(**{"compaction": FAST, **tables})
     kind, detail = outcome(spec, tmp_path / "run")
     assert kind == expected, detail
 
 
+@pytest.mark.lammps
 def test_shear_to_60_degrees_finishes_or_stops_with_diagnosis(tmp_path):
     spec = case_spec("mat-only").replace(shear={"final_angle_deg": 60.0, "inertial_number": 0.4})
     kind, result = outcome(spec, tmp_path / "run", scene="shear")
@@ -97,6 +99,7 @@ def test_shear_to_60_degrees_finishes_or_stops_with_diagnosis(tmp_path):
     assert result["shear"]["angle_deg"][-1] == pytest.approx(60.0, abs=0.5)
 
 
+@pytest.mark.lammps
 def test_stitch_modulus_x100_manufacture_finishes_or_stops_with_diagnosis(tmp_path):
     """PES stitch at 1200 GPa: the stitch bonds set the time step, 10 x smaller. Masses x 100
     bring the step count back to CI size; scaling every mass alike keeps the stiffness contrast
@@ -110,6 +113,7 @@ def test_stitch_modulus_x100_manufacture_finishes_or_stops_with_diagnosis(tmp_pa
     assert kind == "lost-atoms", result
 
 
+@pytest.mark.lammps
 def test_far_too_large_time_step_trips_a_guard_and_cli_exits_1(tmp_path):
     """dt = 4 sqrt(m/k) (allowed explicitly) must not produce numbers: a guard stops it."""
     spec = case_spec("mat-only").replace(
@@ -139,6 +143,7 @@ def test_far_too_large_time_step_trips_a_guard_and_cli_exits_1(tmp_path):
         assert not fh.attrs["complete"]
 
 
+@pytest.mark.lammps
 def test_kinetic_energy_jump_trips_the_kinetic_guard(tmp_path):
     """A uniform kick along x of 0.01 d per step: a tenth of the step-move limit, no overlap, no
     stretched bond, yet the kinetic energy jumps ~1e4 x above the guard's floor (an rms move of

@@ -83,6 +83,7 @@ def compaction_study(tmp_path_factory):
     return spec, folder
 
 
+@pytest.mark.lammps
 def test_study_writes_table_plot_and_errors(compaction_study):
     """Reference = the slower rate (0.4): its errors are 0; the other point's error is
     |x - x_ref| / x_ref of its own outputs, to the CSV's rounding: 7 significant digits put up
@@ -104,6 +105,7 @@ def test_study_writes_table_plot_and_errors(compaction_study):
     assert "Pareto" in (folder / "study.md").read_text()
 
 
+@pytest.mark.lammps
 def test_study_resumes_by_reusing_complete_points(compaction_study):
     spec, folder = compaction_study
     before = (folder / "study.csv").read_text()
@@ -115,6 +117,7 @@ def test_study_resumes_by_reusing_complete_points(compaction_study):
     ]
 
 
+@pytest.mark.lammps
 def test_study_keeps_a_folder_manufacture_and_reruns_only_changed_scenes(
     compaction_study, tmp_path
 ):

@@ -36,6 +36,7 @@ def _rows(result):
     return {c.name: c for c in result.checks}
 
 
+@pytest.mark.lammps
 def test_waves(tmp_path):
     rows = _rows(run_case("waves", tmp_path))
     speed = rows["wave speed c (m/s)"]
@@ -48,6 +49,7 @@ def test_waves(tmp_path):
     assert drift.measured <= 1e-4
 
 
+@pytest.mark.lammps
 def test_hertz(tmp_path):
     result = run_case("hertz", tmp_path)
     force, exponent = result.checks
@@ -55,6 +57,7 @@ def test_hertz(tmp_path):
     assert exponent.measured == pytest.approx(1.5, rel=0.005)
 
 
+@pytest.mark.lammps
 def test_coulomb_sliding(tmp_path):
     rows = _rows(run_case("sliding", tmp_path))
     assert rows["wall, F/N at mu = 0.3"].measured == pytest.approx(0.3, rel=0.005)
@@ -63,12 +66,14 @@ def test_coulomb_sliding(tmp_path):
         assert 1.0 <= rows[name].measured <= 1.05, rows[name]
 
 
+@pytest.mark.lammps
 def test_capstan_half_turn(tmp_path):
     (check,) = run_case("capstan", tmp_path).checks
     assert check.expected == pytest.approx(math.exp(0.3 * math.pi))
     assert abs(check.measured / check.expected - 1) <= 0.01
 
 
+@pytest.mark.lammps
 def test_shear_identities(tmp_path):
     zero, work, energy, analytic = run_case("shear", tmp_path).checks
     assert zero.measured < 0.01  # |F_N| / N0
@@ -76,6 +81,7 @@ def test_shear_identities(tmp_path):
         assert abs(check.measured / check.expected - 1) <= 0.02, check
 
 
+@pytest.mark.lammps
 def test_shear_crossover_springs(tmp_path):
     """Case 5c: F_N = 2 K g / (p^2 cos g) within 1 %, virial and work agree within 2 %."""
     result = run_case("crossover", tmp_path)
@@ -96,6 +102,7 @@ def test_crossover_law_is_the_energy_derivative():
     assert analytic_fn(g, k, p) == pytest.approx(expected, rel=1e-8)
 
 
+@pytest.mark.lammps
 def test_packing_limit(tmp_path):
     side, nested = run_case("packing", tmp_path).checks
     assert side.measured == pytest.approx(math.pi / (2 * math.sqrt(3)), rel=0.01)
@@ -107,6 +114,7 @@ def test_roughness_estimate_matches_design():
     assert roughness_estimate(69.0 / 2) == pytest.approx(1 + 1.09 / 48)
 
 
+@pytest.mark.lammps
 @pytest.mark.slow
 @pytest.mark.parametrize("name", list(CASES))
 def test_full_case(name, tmp_path):

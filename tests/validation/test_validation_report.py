@@ -27,6 +27,7 @@ def test_table_has_every_column_and_verdict():
     assert "FAIL" in row and "+33.333 %" in row
 
 
+@pytest.mark.lammps
 def test_validate_command_writes_report(tmp_path, capsys):
     assert main(["validate", "-o", str(tmp_path), "--case", "hertz"]) == 0
     out = capsys.readouterr().out
