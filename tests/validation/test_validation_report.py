@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from ncf2lammps.cli import main
 from ncf2lammps.scenes.validation import Check
 from ncf2lammps.scenes.validation.common import CaseResult
