@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import shutil
 
+import jinja2
 import numpy as np
 import pytest
 from conftest import CASES, case_spec
@@ -55,16 +56,29 @@ def test_lammps_reads_model_and_agrees(case_models, case, tmp_path):
 
 
 @pytest.mark.parametrize(
-    "bad", ["model.data\nshell rm -rf /", "x y", "$(v_a)", "../data", "a#b", float("nan")]
+    "bad",
+    [
+        "model.data\nshell rm -rf /",
+        "model.data\n",
+        "x y",
+        "$(v_a)",
+        "../data",
+        "/a/../b",
+        "a#b",
+        float("nan"),
+    ],
 )
 def test_deck_refuses_unsafe_values(bad):
     with pytest.raises(DeckValueError):
         render("verify.lmp.j2", data_file=bad)
 
 
-def test_deck_fails_loudly_on_missing_value():
-    import jinja2
+def test_deck_takes_a_plain_absolute_path():
+    with pytest.raises(jinja2.UndefinedError):  # the path passed; the other values are missing
+        render("verify.lmp.j2", data_file="/tmp/run-1/case_a+b/model.data")
 
+
+def test_deck_fails_loudly_on_missing_value():
     with pytest.raises(jinja2.UndefinedError):
         render("verify.lmp.j2", version="x", scene="verify", data_file="model.data")
 
