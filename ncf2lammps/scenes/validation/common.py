@@ -194,7 +194,7 @@ def contact(kn: float, mass: float, mu: float, damping_ratio: float = 0.3) -> Co
     return ContactLaw("hooke", float(kn), float(kn), float(eta), float(2.0 / 7.0 * kn), float(mu))
 
 
-def _base_values(model: Model, dt: float, law: ContactLaw, scene: str) -> dict:
+def _base_values(model: Model, dt: float, law: ContactLaw, scene: str, data_file: str) -> dict:
     """The values ``base.lmp.j2`` needs, sized to the model (skin d/10, bond-safe comm cutoff)."""
     d_max = float(model.diameter.max())
     skin = max(1.0, 0.1 * d_max)
@@ -202,7 +202,7 @@ def _base_values(model: Model, dt: float, law: ContactLaw, scene: str) -> dict:
     return {
         "version": __version__,
         "scene": scene,
-        "data_file": "model.data",
+        "data_file": data_file,
         "restart_file": None,
         "contact": law,
         "dt": float(dt),
@@ -218,15 +218,18 @@ def lammps_case(
 ) -> Iterator[Engine]:
     """Write ``model.data`` and ``in.lmp`` (rendered ``template``) in ``workdir``, run the deck.
 
-    Yields the open :class:`Engine` after the deck has been read, so the case drives the runs.
+    The deck reads the data file by its absolute path and LAMMPS logs to ``workdir/log.lammps``:
+    the working directory is never changed. Yields the open :class:`Engine` after the deck has
+    been read, so the case drives the runs.
     """
     workdir.mkdir(parents=True, exist_ok=True)
-    write_data(workdir / "model.data", model, title=template)
+    folder = workdir.resolve()
+    write_data(folder / "model.data", model, title=template)
     scene = Path(template).name.split(".")[0]
-    deck = render(template, **_base_values(model, dt, law, scene), **values)
-    (workdir / "in.lmp").write_text(deck)
-    with Engine(workdir, log="log.lammps") as engine:
-        engine.file("in.lmp")
+    base = _base_values(model, dt, law, scene, str(folder / "model.data"))
+    (folder / "in.lmp").write_text(render(template, **base, **values))
+    with Engine(log=folder / "log.lammps") as engine:
+        engine.file(folder / "in.lmp")
         yield engine
 
 
