@@ -206,15 +206,15 @@ def test_bending_coefficient_from_filament_count(style):
 def test_without_bending_no_angle_anywhere(tmp_path):
     result = build(tiny_spec(), tmp_path / "run")
     assert "angle" not in (result.directory / "model.data").read_text().lower()
-    for path in result.decks.values():
-        commands = [ln.split() for ln in path.read_text().splitlines() if ln.strip()]
+    for deck in result.decks.values():
+        commands = [ln.split() for ln in deck.text.splitlines() if ln.strip()]
         assert not any(
             w[0].startswith("angle_")
             or (w[:3] == ["atom_style", "hybrid", "sphere"] and "angle" in w)
             for w in commands
-        ), path
+        ), deck.name
     bent = build(tiny_spec(discretisation={"bending": "cosine"}), tmp_path / "bent")
-    verify = bent.decks["verify"].read_text()
+    verify = bent.decks["verify"].text
     assert "atom_style      hybrid sphere angle" in verify and "angle_style     cosine" in verify
 
 
@@ -283,11 +283,11 @@ def test_stitch_packing_fraction_sets_diameter_not_mass_or_stiffness():
 
 def test_fibre_stitch_friction_only_on_fibre_stitch_pairs(tmp_path):
     result = build(tiny_spec(contact={"fibre_stitch_friction": 0.15}), tmp_path / "run")
-    deck = result.decks["verify"].read_text()
+    deck = result.decks["verify"].text
     lines = [ln.split() for ln in deck.splitlines() if ln.startswith("pair_coeff")]
     mu = {(w[1], w[2]): float(w[w.index("linear_history") + 3]) for w in lines}
     assert mu == {("*", "*"): 0.3, ("1", "3"): 0.15, ("2", "3"): 0.15}
-    default = build(tiny_spec(), tmp_path / "default").decks["verify"].read_text()
+    default = build(tiny_spec(), tmp_path / "default").decks["verify"].text
     assert sum(ln.startswith("pair_coeff") for ln in default.splitlines()) == 1
 
 

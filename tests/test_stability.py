@@ -135,7 +135,7 @@ def test_kinetic_energy_jump_trips_the_kinetic_guard(tmp_path, monkeypatch):
     that jumped in one step (the shear deck's fix deform once did) looks just like this."""
     spec = case_spec("mat-only").replace(compaction=FAST)
     built = build(spec, tmp_path / "run")
-    deck = built.decks["compaction"]
+    deck = built.directory / "decks" / "in.compaction.lmp"
     speed = 0.01 * float(built.model.diameter.min()) / built.time_step.dt
     lines = deck.read_text().splitlines()
     last_run = max(i for i, line in enumerate(lines) if line.startswith("run "))
