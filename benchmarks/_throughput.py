@@ -12,10 +12,11 @@ import shutil
 import subprocess
 import sys
 import time
+from contextlib import chdir
 from pathlib import Path
 
 from ncf2lammps import load_spec, spec_from_dict
-from ncf2lammps.engine import Engine
+from ncf2lammps.engine import Engine, run_deck
 from ncf2lammps.orchestration.build import build
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -35,10 +36,11 @@ def paper_mat_folder(directory: Path, plate_speed_m_s: float = 3.0) -> tuple[Pat
 
 
 def run_python(folder: Path, chunk: int = 5000) -> tuple[float, int]:
-    """(wall s, steps) of the compaction deck run by the Python driver (1 rank)."""
+    """(wall s, steps) of the compaction deck run by the Python driver (1 rank), working in
+    ``folder`` (the deck's relative paths resolve there, as in a scene's process)."""
     start = time.perf_counter()
-    with Engine(folder, log="log.python.lammps") as engine:
-        engine.run_deck("decks/in.compaction.lmp", chunk=chunk)
+    with chdir(folder), Engine(log="log.python.lammps") as engine:
+        run_deck(engine, "decks/in.compaction.lmp", chunk=chunk)
         steps = engine.step
     return time.perf_counter() - start, steps
 

@@ -100,8 +100,8 @@ thermo_style    custom step v_force_bottom v_force_top v_contacts v_pair v_fz1
 run             0
 """
     )
-    with Engine(tmp_path, log=None) as engine:
-        engine.file("in.lmp")
+    with Engine(log=None) as engine:
+        engine.file(tmp_path / "in.lmp")
         value = engine.variable
         e_star = modulus / 2.0
         wall = 4.0 / 3.0 * e_star * math.sqrt(radius * delta) * delta

@@ -278,7 +278,7 @@ def test_fibre_stitch_friction_only_on_fibre_stitch_pairs(tmp_path):
 
 
 @pytest.mark.lammps
-def test_lammps_runs_every_option_and_bends_by_the_law(tmp_path):
+def test_lammps_runs_every_option_and_bends_by_the_law(tmp_path, monkeypatch):
     """All options on: LAMMPS reads the files, the wavy chains start with zero angle energy
     (rest angles from the geometry, < 1e-9 EI/s), 100 steps stay finite; then a straight chain
     (cosine) with one bead moved by y = 1e-3 s stores 3 EI y^2 / s^3 (to 1e-4)."""
@@ -291,7 +291,8 @@ def test_lammps_runs_every_option_and_bends_by_the_law(tmp_path):
     result = build(spec, tmp_path / "wavy")
     model = result.model
     scale = min(t.bending_stiffness / t.spacing for t in model.angle_types)
-    with Engine(result.directory, log="log.verify.lammps") as engine:
+    monkeypatch.chdir(result.directory)
+    with Engine(log="log.verify.lammps") as engine:
         engine.file("decks/in.verify.lmp")
         assert engine.nangles == model.n_angles
         engine.command("compute bend all pe angle")
@@ -303,7 +304,8 @@ def test_lammps_runs_every_option_and_bends_by_the_law(tmp_path):
     straight = build(tiny_spec(discretisation={"bending": "cosine"}), tmp_path / "straight")
     t = straight.model.angle_types[0]
     y = 1e-3 * t.spacing
-    with Engine(straight.directory, log=None) as engine:
+    monkeypatch.chdir(straight.directory)
+    with Engine(log=None) as engine:
         engine.file("decks/in.verify.lmp")
         engine.command("compute bend all pe angle")
         engine.command("group moved id 1")

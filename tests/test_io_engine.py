@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import shutil
+from contextlib import chdir
 
+import jinja2
 import numpy as np
 import pytest
 from conftest import CASES, case_spec
 
 from ncf2lammps import build, build_model
-from ncf2lammps.engine import Checkpoints, Engine
+from ncf2lammps.engine import Checkpoints, Engine, run_deck
 from ncf2lammps.io.datafile import read_data, write_data
 from ncf2lammps.io.deck import DeckValueError, render
 from ncf2lammps.numerics import prepare
@@ -29,12 +31,13 @@ def test_data_file_round_trip_is_exact(case_models, case, tmp_path):
 
 @pytest.mark.lammps
 @pytest.mark.parametrize("case", CASES)
-def test_lammps_reads_model_and_agrees(case_models, case, tmp_path):
+def test_lammps_reads_model_and_agrees(case_models, case, tmp_path, monkeypatch):
     """LAMMPS reads model.data, runs 0 steps; counts, positions and masses equal the model's
     (times the spec's mass scaling)."""
     spec, model = case_models[case]
     result = build(spec, tmp_path / "run")
-    with Engine(result.directory, log="log.verify.lammps") as engine:
+    monkeypatch.chdir(result.directory)
+    with Engine(log="log.verify.lammps") as engine:
         engine.file("decks/in.verify.lmp")
         assert engine.natoms == model.n_atoms
         assert engine.nbonds == model.n_bonds
@@ -43,7 +46,7 @@ def test_lammps_reads_model_and_agrees(case_models, case, tmp_path):
             engine.gather("rmass", 1), model.mass * spec.numerics.mass_scaling, rtol=1e-12
         )
     # LAMMPS write_data -> our reader: the same atoms and bonds come back.
-    with Engine(result.directory, log=None) as engine:
+    with Engine(log=None) as engine:
         engine.file("decks/in.verify.lmp")
         engine.command("write_data lammps.data")
     back = read_data(result.directory / "lammps.data")
@@ -56,16 +59,29 @@ def test_lammps_reads_model_and_agrees(case_models, case, tmp_path):
 
 
 @pytest.mark.parametrize(
-    "bad", ["model.data\nshell rm -rf /", "x y", "$(v_a)", "../data", "a#b", float("nan")]
+    "bad",
+    [
+        "model.data\nshell rm -rf /",
+        "model.data\n",
+        "x y",
+        "$(v_a)",
+        "../data",
+        "/a/../b",
+        "a#b",
+        float("nan"),
+    ],
 )
 def test_deck_refuses_unsafe_values(bad):
     with pytest.raises(DeckValueError):
         render("verify.lmp.j2", data_file=bad)
 
 
-def test_deck_fails_loudly_on_missing_value():
-    import jinja2
+def test_deck_takes_a_plain_absolute_path():
+    with pytest.raises(jinja2.UndefinedError):  # the path passed; the other values are missing
+        render("verify.lmp.j2", data_file="/tmp/run-1/case_a+b/model.data")
 
+
+def test_deck_fails_loudly_on_missing_value():
     with pytest.raises(jinja2.UndefinedError):
         render("verify.lmp.j2", version="x", scene="verify", data_file="model.data")
 
@@ -112,8 +128,8 @@ def _controlled_run(folder, resume: bool, kill_at: int | None = None) -> float:
     (folder / "one_atom.data").write_text(ONE_ATOM)
     (folder / "in.controlled.lmp").write_text(CONTROLLED_DECK)
     checkpoints = Checkpoints("controlled", every=50, resume=resume)
-    with Engine(folder, log=None) as engine:
-        engine.run_deck("in.controlled.lmp", 25, on_chunk=on_chunk, checkpoint=checkpoints)
+    with chdir(folder), Engine(log=None) as engine:
+        run_deck(engine, "in.controlled.lmp", 25, on_chunk=on_chunk, checkpoint=checkpoints)
         return engine.variable("control")
 
 
@@ -131,7 +147,9 @@ def test_resume_restores_a_feedback_controller_exactly(tmp_path):
 
 
 @pytest.mark.lammps
-def test_fast_contact_style_gives_the_general_styles_forces(coarse_manufactured, tmp_path):
+def test_fast_contact_style_gives_the_general_styles_forces(
+    coarse_manufactured, tmp_path, monkeypatch
+):
     """One hooke law for every pair renders ``pair_style gran/hooke/history``; a per-pair
     friction renders ``pair_style granular``. Given the same friction everywhere, the two agree
     on the coarse manufactured state (contacts, no history yet): per-atom forces to 1e-12 of
@@ -143,6 +161,7 @@ def test_fast_contact_style_gives_the_general_styles_forces(coarse_manufactured,
     # The fibre-stitch friction set to the common one: per-pair coefficients, the same law.
     per_pair = spec.replace(contact={"fibre_stitch_friction": spec.contact.friction})
     shutil.copy(coarse_manufactured / "manufactured.data", tmp_path)
+    monkeypatch.chdir(tmp_path)
     results = {}
     for name, variant in (("fast", spec), ("general", per_pair)):
         deck = render(
@@ -151,7 +170,7 @@ def test_fast_contact_style_gives_the_general_styles_forces(coarse_manufactured,
         )
         assert ("gran/hooke/history" in deck) == (name == "fast")
         (tmp_path / f"in.{name}.lmp").write_text(deck)
-        with Engine(tmp_path, log=None) as engine:
+        with Engine(log=None) as engine:
             engine.file(f"in.{name}.lmp")
             forces = engine.gather("f", 3)
             engine.command("velocity all ramp vx 0.0 2.0 z -200.0 800.0 sum yes units box")

@@ -14,7 +14,7 @@ import pytest
 from conftest import case_spec, tiny_spec
 
 from ncf2lammps import build, run
-from ncf2lammps.engine import Engine, UnstableRunError
+from ncf2lammps.engine import Engine, UnstableRunError, run_deck
 from ncf2lammps.io.results import read_results
 from ncf2lammps.io.spectoml import dumps_spec
 
@@ -144,7 +144,7 @@ def test_far_too_large_time_step_trips_a_guard_and_cli_exits_1(tmp_path):
 
 
 @pytest.mark.lammps
-def test_kinetic_energy_jump_trips_the_kinetic_guard(tmp_path):
+def test_kinetic_energy_jump_trips_the_kinetic_guard(tmp_path, monkeypatch):
     """A uniform kick along x of 0.01 d per step: a tenth of the step-move limit, no overlap, no
     stretched bond, yet the kinetic energy jumps ~1e4 x above the guard's floor (an rms move of
     1e-4 d per step) at the first check. The kinetic guard, and no other, must stop it: a box
@@ -157,7 +157,8 @@ def test_kinetic_energy_jump_trips_the_kinetic_guard(tmp_path):
     last_run = max(i for i, line in enumerate(lines) if line.startswith("run "))
     lines.insert(last_run, f"velocity        all set {speed!r} 0.0 0.0 sum yes units box")
     deck.write_text("\n".join(lines) + "\n")
-    with Engine(built.directory, log=None) as engine, pytest.raises(UnstableRunError) as err:
-        engine.run_deck(deck, chunk=10_000)
+    monkeypatch.chdir(built.directory)
+    with Engine(log=None) as engine, pytest.raises(UnstableRunError) as err:
+        run_deck(engine, deck, chunk=10_000)
     assert "guard 'kinetic' at step" in str(err.value)
     assert "kinetic energy grew" in str(err.value)

@@ -1,8 +1,8 @@
 """LAMMPS input decks rendered with Jinja2 from ``templates/`` (``StrictUndefined``).
 
 Only typed, validated values reach a deck: numbers must be finite ints or floats, words must be
-plain identifiers or relative paths (no spaces, quotes, ``$`` or ``#``), so nothing read from a
-spec file can inject a LAMMPS command (LAMMPS has ``shell``). Scenes extend ``base.lmp.j2`` and
+plain identifiers or paths without ``..`` (no spaces, quotes, ``$``, ``#`` or newlines), so nothing
+read from a spec file can inject a LAMMPS command (LAMMPS has ``shell``). Scenes extend ``base.lmp.j2`` and
 override only the blocks that differ.
 """
 
@@ -19,7 +19,7 @@ import numpy as np
 
 __all__ = ["DeckValueError", "render", "template_dir"]
 
-_WORD = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_./+-]*$")
+_WORD = re.compile(r"^/?[A-Za-z0-9_][A-Za-z0-9_./+-]*$")
 
 
 class DeckValueError(ValueError):
@@ -47,9 +47,9 @@ def _num(value) -> str:
 
 
 def _word(value) -> str:
-    """An identifier or relative path."""
-    if not isinstance(value, str) or not _WORD.match(value) or ".." in value:
-        raise DeckValueError(f"deck word must be an identifier or relative path, got {value!r}")
+    """An identifier, or a relative or absolute path (the tool's own: a data file's folder)."""
+    if not isinstance(value, str) or not _WORD.fullmatch(value) or ".." in value:
+        raise DeckValueError(f"deck word must be an identifier or a plain path, got {value!r}")
     return value
 
 

@@ -7,7 +7,7 @@ Adding a scene means adding one module and one registry entry.
 How a scene runs (:func:`execute`, on every MPI rank of the scene's process)::
 
     deck = render(scene.template, base context + scene.deck_values(run))   # once, when built
-    engine.run_deck(deck, chunk=scene.chunk, checkpoint=...)                # in the run folder
+    run_deck(engine, deck, chunk=scene.chunk, checkpoint=...)               # in the run folder
         at each "# stage: NAME" line: scene.stage_checks(engine, run, NAME) -> live attributes
     attrs, datasets = scene.collect(run, folder)                            # from its files
     scene.figures(results, folder)                                          # report
@@ -19,7 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..engine import Checkpoints, Engine
+from ..engine import Checkpoints, Engine, run_deck
 from ..numerics import Prepared
 from ..spec import FabricSpec
 
@@ -72,7 +72,8 @@ def execute(
         if scene.stage_checks is not None:
             attrs.update(scene.stage_checks(engine, run, stage))
 
-    engine.run_deck(
+    run_deck(
+        engine,
         f"decks/in.{scene.name}.lmp",
         chunk=scene.chunk,
         on_stage=on_stage,

@@ -192,10 +192,11 @@ def contact(kn: float, mass: float, mu: float, damping_ratio: float = 0.3) -> Co
     return ContactLaw("hooke", float(kn), float(kn), float(eta), float(2.0 / 7.0 * kn), float(mu))
 
 
-def _base_values(model: Model, dt: float, law: ContactLaw, scene: str) -> dict:
+def _base_values(model: Model, dt: float, law: ContactLaw, scene: str, data_file: str) -> dict:
     """The values ``base.lmp.j2`` needs (:func:`~ncf2lammps.scenes.deck.base_context`), sized to
-    the model: skin d/10, a ghost cutoff two bonds past a bead, no guards, no output files."""
-    return base_context(model, dt, law, scene, bond_reach=2.0)
+    the model: skin d/10, a ghost cutoff two bonds past a bead, no guards, no output files;
+    ``data_file`` is the absolute path of the case's data file."""
+    return base_context(model, dt, law, scene, data_file=data_file, bond_reach=2.0)
 
 
 @contextmanager
@@ -204,15 +205,18 @@ def lammps_case(
 ) -> Iterator[Engine]:
     """Write ``model.data`` and ``in.lmp`` (rendered ``template``) in ``workdir``, run the deck.
 
-    Yields the open :class:`Engine` after the deck has been read, so the case drives the runs.
+    The deck reads the data file by its absolute path and LAMMPS logs to ``workdir/log.lammps``:
+    the working directory is never changed. Yields the open :class:`Engine` after the deck has
+    been read, so the case drives the runs.
     """
     workdir.mkdir(parents=True, exist_ok=True)
-    write_data(workdir / "model.data", model, title=template)
+    folder = workdir.resolve()
+    write_data(folder / "model.data", model, title=template)
     scene = Path(template).name.split(".")[0]
-    deck = render(template, **_base_values(model, dt, law, scene), **values)
-    (workdir / "in.lmp").write_text(deck)
-    with Engine(workdir, log="log.lammps") as engine:
-        engine.file("in.lmp")
+    base = _base_values(model, dt, law, scene, str(folder / "model.data"))
+    (folder / "in.lmp").write_text(render(template, **base, **values))
+    with Engine(log=folder / "log.lammps") as engine:
+        engine.file(folder / "in.lmp")
         yield engine
 
 
