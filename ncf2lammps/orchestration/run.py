@@ -19,9 +19,12 @@ last checkpoint (docs/hpc.md).
 
 from __future__ import annotations
 
+import ctypes
 import json
 import os
 import shutil
+import signal
+import socket
 import subprocess
 import sys
 import time
@@ -122,7 +125,14 @@ def _execute(directory: Path, spec: FabricSpec, scene: str, checkpoint: Checkpoi
     if ranks > 1:
         command = [mpiexec(), "-n", str(ranks), *command]
     command += [scene, str(checkpoint.every), str(int(checkpoint.resume))]
-    done = subprocess.run(command, cwd=directory, stdin=subprocess.DEVNULL, check=False)
+    done = subprocess.run(
+        command,
+        cwd=directory,
+        stdin=subprocess.DEVNULL,
+        env={**os.environ, **driver_identity()},
+        preexec_fn=_die_with_parent(os.getpid()),
+        check=False,
+    )
     outcome = json.loads(report.read_text()) if report.is_file() else None
     if outcome is None:
         raise EngineError(
@@ -133,6 +143,33 @@ def _execute(directory: Path, spec: FabricSpec, scene: str, checkpoint: Checkpoi
         kind = UnstableRunError if outcome["kind"] == "UnstableRunError" else EngineError
         raise kind(outcome["error"])
     return outcome["attrs"]
+
+
+def _die_with_parent(parent: int):
+    """A ``preexec_fn`` that has the kernel kill the child when ``parent`` dies (Linux
+    ``PR_SET_PDEATHSIG``), so a killed run leaves no scene process writing into its folder;
+    elsewhere None (the worker's own watch, :func:`driver_identity`, still ends it)."""
+    if not sys.platform.startswith("linux"):
+        return None
+
+    def arm() -> None:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
+        if os.getppid() != parent:  # the parent died before the signal was armed
+            os._exit(137)
+
+    return arm
+
+
+#: ``prctl`` option: the signal a process gets when its parent dies (linux/prctl.h).
+_PR_SET_PDEATHSIG = 1
+
+
+def driver_identity() -> dict[str, str]:
+    """Environment naming this process (pid, host) to a scene's processes: every rank of the
+    worker ends itself when the process that started the run is gone (the kernel's parent-death
+    signal reaches only the direct child, ``mpiexec``, not the ranks below it)."""
+    return {"NCF2LAMMPS_DRIVER": f"{os.getpid()}@{socket.gethostname()}"}
 
 
 def _count_atoms(directory: Path) -> int:
