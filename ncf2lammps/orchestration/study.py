@@ -221,12 +221,12 @@ def _run_from_manufactured(
         )
         run_scenes(point.spec, partial, [s for s in scenes if s not in keep], ranks=ranks)
         mark_complete(results)
-        write_report(partial)
         shutil.rmtree(directory, ignore_errors=True)
         partial.rename(directory)
     except BaseException:
         shutil.rmtree(partial, ignore_errors=True)
         raise
+    write_report(directory)  # a run folder by now: report refuses temporary build folders
 
 
 def _point_row(directory: Path, scenes: Sequence[str]) -> dict:
