@@ -36,14 +36,24 @@ class Deck:
     def checkpoint_interval(self, every: int) -> int:
         """Steps between checkpoints for a wish of ``every`` steps (0: none), rounded up to a
         multiple of :attr:`period` so that no checkpoint splits a recording window."""
-        return self.period * math.ceil(every / self.period) if every else 0
+        return _rounded_up(every, self.period)
+
+
+def _rounded_up(every: int, period: int) -> int:
+    """``every`` rounded up to a multiple of ``period`` (0 stays 0)."""
+    return period * math.ceil(every / period) if every else 0
+
+
+def _default_skin(model: Model) -> float:
+    """Neighbour skin (um) when none is given: d/10 of the largest bead, at least 1 um."""
+    return max(1.0, 0.1 * float(model.diameter.max()))
 
 
 def neighbor_skin(spec: FabricSpec, model: Model) -> float:
-    """Neighbour skin (um): the spec's, else d/10 of the largest bead and at least 1 um."""
+    """Neighbour skin (um): the spec's, else :func:`_default_skin`."""
     if spec.numerics.neighbor_skin_um is not None:
         return spec.numerics.neighbor_skin_um
-    return max(1.0, 0.1 * float(model.diameter.max()))
+    return _default_skin(model)
 
 
 def friction_pairs(spec: FabricSpec, model: Model) -> list[tuple[int, int, float]]:
@@ -84,7 +94,7 @@ def base_context(
     """
     d_max = float(model.diameter.max())
     if skin is None:
-        skin = max(1.0, 0.1 * d_max)
+        skin = _default_skin(model)
     longest_bond = max((t.r0 for t in model.bond_types), default=d_max)
     return {
         "version": __version__,
@@ -143,8 +153,7 @@ def render_deck(run: Prepared, name: str, plain_lmp: bool = False) -> Deck:
         values.update(scene.deck_values(run))
         periods += scene.periods(values)
     period = math.lcm(*periods)
-    deck = Deck(name, "", period)
     if plain_lmp and name != "verify":
-        values["restart_every"] = deck.checkpoint_interval(run.spec.output.checkpoint_every_steps)
+        values["restart_every"] = _rounded_up(run.spec.output.checkpoint_every_steps, period)
     template = "verify.lmp.j2" if name == "verify" else SCENES[name].template
     return Deck(name, render(template, **values), period)
