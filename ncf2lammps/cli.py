@@ -14,6 +14,7 @@ import sys
 
 from . import __version__, units
 from .engine import EngineError
+from .geometry.bundle import FIT_WINDOW_KPA, spec_bundle_law
 from .io.results import ResultsFileError
 from .numerics import STABLE_FRACTION, prepare
 from .orchestration.build import OutputExistsError, build, check_ranks
@@ -64,8 +65,17 @@ def _check(args) -> int:
         f"bead mass     {mass.min():.4g} .. {mass.max():.4g} pg (mass scaling {numerics.mass_scaling:g},"
         f" fibre stiffness scaling {numerics.fibre_stiffness_scaling:g})",
         f"contact       {law.model}: k_n = {units.from_micro(law.stiffness, 'N_m'):.4g} N/m, mu = {law.friction:g}",
-        "stability     sqrt(m/k) per limit (us):",
     ]
+    bundle = spec_bundle_law(spec)
+    if bundle is not None:
+        lo, hi = FIT_WINDOW_KPA
+        lines.append(
+            f"bundle law    Gutowski bed A_s = {bundle.bed.stiffness * 1e3:.4g} Pa, V0"
+            f" {bundle.bed.free_fvf:g}, Va {bundle.bed.max_fvf:g} on Hertz: onset Vf"
+            f" {bundle.onset_fvf:.4f}, E* = {bundle.effective_modulus(spec.discretisation.bead_spacing_ratio):.4g} kPa,"
+            f" largest deviation {100 * bundle.max_error:.3g} % over {lo:g}-{hi:g} kPa"
+        )
+    lines.append("stability     sqrt(m/k) per limit (us):")
     for name, limit in sorted(step.limits.items(), key=lambda kv: kv[1]):
         lines.append(f"  {name:<28} {limit:.4g}")
     lines += [

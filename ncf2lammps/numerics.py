@@ -32,6 +32,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from . import units
+from .geometry.bundle import FIT_WINDOW_KPA, spec_bundle_law
 from .model import Model, build_model
 from .spec import FabricSpec, SpecError
 
@@ -126,18 +127,23 @@ def contact_law(spec: FabricSpec, model: Model) -> ContactLaw:
     d_min = float(model.diameter.min())
     mass = simulated_model(spec, model).mass
     m_eff = float(mass.min()) / 2.0
+    law = spec_bundle_law(spec)
     if contact.normal_model == "hooke":
         normal = units.to_micro(contact.normal_stiffness_N_m, "N_m")
         stiffness = normal
     else:
-        normal = units.to_micro(contact.contact_modulus_GPa, "GPa")
+        if law is None:
+            normal = units.to_micro(contact.contact_modulus_GPa, "GPa")
+            overlap = HERTZ_REFERENCE_OVERLAP * d_min
+        else:  # the bundle's E*, stiffest at the top of the law's window
+            normal = 2.0 * law.effective_modulus(spec.discretisation.bead_spacing_ratio)
+            overlap = law.overlap_at(FIT_WINDOW_KPA[1]) * d_min
         e_star = normal / 2.0  # two equal bodies, Poisson ratio neglected
         r_star = d_min / 4.0
-        overlap = HERTZ_REFERENCE_OVERLAP * d_min
         stiffness = 2.0 * e_star * np.sqrt(r_star * overlap)
     damping = 2.0 * contact.damping_ratio * np.sqrt(stiffness / m_eff)
     return ContactLaw(
-        model=contact.normal_model,
+        model="hooke" if contact.normal_model == "hooke" else "hertz",
         normal=float(normal),
         stiffness=float(stiffness),
         damping=float(damping),
@@ -228,7 +234,9 @@ class Guards:
     """Stability guard settings rendered into every scene deck (``fix halt ... error hard``).
 
     Attributes: ``every`` (steps between checks); ``diameter`` = smallest bead diameter (um);
-    ``contact_stiffness`` (nN/um) to turn the largest pair force into an overlap;
+    ``contact_stiffness`` (nN/um) to turn the largest pair force into an overlap (hooke:
+    ``F / k``); ``hertz_coefficient`` K (nN/um^1.5) for a Hertz law, ``(F / K)^(2/3)``, else
+    None;
     ``max_step_move`` and ``max_overlap`` (fractions of ``diameter``); ``max_bond_length`` (um);
     ``max_kinetic_jump`` (growth factor of the kinetic energy between two checks) above
     ``kinetic_floor`` (pg um^2 / us^2, the kinetic energy of an rms move of
@@ -238,6 +246,7 @@ class Guards:
     every: int
     diameter: float
     contact_stiffness: float
+    hertz_coefficient: float | None
     max_step_move: float
     max_overlap: float
     max_bond_length: float
@@ -250,10 +259,15 @@ def guards(spec: FabricSpec, model: Model, dt: float) -> Guards:
     :data:`GUARD_MAX_STEP_MOVE` and friends."""
     diameter = float(model.diameter.min())
     floor_speed = GUARD_KINETIC_FLOOR_STEP_MOVE * diameter / dt
+    law = contact_law(spec, model)
+    hertz = None  # F = 4/3 E* sqrt(R*) delta^1.5, E* = E / 2, R* = d / 4 (two smallest beads)
+    if law.model == "hertz":
+        hertz = 4.0 / 3.0 * law.normal / 2.0 * float(np.sqrt(diameter / 4.0))
     return Guards(
         every=spec.numerics.guard_every,
         diameter=diameter,
-        contact_stiffness=contact_law(spec, model).stiffness,
+        contact_stiffness=law.stiffness,
+        hertz_coefficient=hertz,
         max_step_move=GUARD_MAX_STEP_MOVE,
         max_overlap=GUARD_MAX_OVERLAP,
         max_bond_length=(1.0 + GUARD_MAX_BOND_STRETCH) * max(t.r0 for t in model.bond_types),

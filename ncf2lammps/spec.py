@@ -252,7 +252,11 @@ class ContactSpec:
     fibre_stitch_friction: float | None = _f(
         None, 0.0, 2.0, unit="-", source="None: friction; carbon-PES data in docs/fidelity.md"
     )
-    normal_model: str = _f("hooke", choices=("hooke", "hertz"), source="model choice")
+    normal_model: str = _f(
+        "hooke",
+        choices=("hooke", "hertz", "bundle"),
+        source="model choice; bundle: the fibre-bed law on a Hertz contact (docs/contact.md)",
+    )
     normal_stiffness_N_m: float = _f(
         1.0e6, 1.0, 1.0e9, unit="N/m", source="docs/contact.md: below the stitch bond's EA/s"
     )
@@ -263,6 +267,29 @@ class ContactSpec:
         unit="GPa",
         source="transverse bundle modulus, model choice (hertz); range: up to steel on steel,"
         " E* = E / (2 (1 - nu^2)) ~ 115 GPa (Johnson, Contact Mechanics, 1985)",
+    )
+    bundle_free_fvf: float = _f(
+        0.50,
+        0.2,
+        0.75,
+        unit="-",
+        source="V0 of the bundle law: Gutowski et al., J. Compos. Mater. 21 (1987) 172, carbon",
+    )
+    bundle_max_fvf: float = _f(
+        0.785,
+        0.6,
+        0.907,
+        unit="-",
+        source="Va of the bundle law: pi/4, square packing (Gutowski et al. 1987); 0.785-0.83"
+        " reported, up to hexagonal 0.907",
+    )
+    bundle_waviness_ratio: float = _f(
+        350.0,
+        50.0,
+        2000.0,
+        unit="-",
+        source="beta (filament span / amplitude) of the bundle law: Gutowski et al. 1987;"
+        " 225-350 reported for carbon",
     )
     damping_ratio: float = _f(0.3, 0.0, 1.0, unit="-", source="fraction of critical, per contact")
     tangential_stiffness_ratio: float = _f(
@@ -574,12 +601,16 @@ def _check_consistency(spec: FabricSpec) -> None:
             "cosine",
             "rests at 180 deg only: use 'harmonic' with mat.waviness_amplitude_um > 0",
         )
-    densest = spec.discretisation.chain_internal_fvf * HEXAGONAL_PACKING
+    _check_bundle(spec)
+    internal = spec.discretisation.chain_internal_fvf
+    if spec.contact.normal_model == "bundle":
+        internal = spec.contact.bundle_max_fvf
+    densest = internal * HEXAGONAL_PACKING
     if spec.compaction.final_fvf > densest:
         raise SpecError(
             "compaction.final_fvf",
             spec.compaction.final_fvf,
-            f"out of range: chains of internal Vf {spec.discretisation.chain_internal_fvf:g}"
+            f"out of range: chains of internal Vf {internal:g}"
             f" reach at most {densest:.3f} (hexagonal packing); allowed [0.05, {densest:.3f}]",
         )
     length, width = spec.cell_mm
@@ -589,6 +620,33 @@ def _check_consistency(spec: FabricSpec) -> None:
             "discretisation.chain_diameter_um",
             spec.discretisation.chain_diameter_um,
             f"must be at most half the cell edge ({min(length, width) * 500:g} um)",
+        )
+
+
+def _check_bundle(spec: FabricSpec) -> None:
+    """The bundle law's keys against the rest: one fibre, free below packed, chains not filled."""
+    contact = spec.contact
+    if contact.normal_model != "bundle":
+        return
+    if contact.bundle_free_fvf >= contact.bundle_max_fvf:
+        raise SpecError(
+            "contact.bundle_free_fvf",
+            contact.bundle_free_fvf,
+            f"must be below contact.bundle_max_fvf = {contact.bundle_max_fvf:g}",
+        )
+    if spec.discretisation.chain_internal_fvf != 1.0:
+        raise SpecError(
+            "discretisation.chain_internal_fvf",
+            spec.discretisation.chain_internal_fvf,
+            "is not read with contact.normal_model = 'bundle' (the bundle law sets the chains'"
+            " internal Vf): leave it at 1",
+        )
+    moduli = {p.E_GPa for p in spec.plies}
+    if len(moduli) > 1:
+        raise SpecError(
+            "ply.E_GPa",
+            sorted(moduli),
+            "must be one value for contact.normal_model = 'bundle' (one law for every contact)",
         )
 
 

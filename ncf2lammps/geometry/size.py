@@ -29,6 +29,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from ..spec import SpecError
+from .bundle import chain_fill
 
 __all__ = ["MAX_BEADS", "ModelSize", "check_model_size", "model_size", "ply_beads", "stitch_beads"]
 
@@ -120,7 +121,7 @@ def model_size(spec) -> ModelSize:
             across,
             disc.chain_diameter_um,
             disc.bead_spacing_ratio,
-            disc.chain_internal_fvf,
+            chain_fill(spec),
             waviness,
             mat.waviness_waves_per_cell,
         )

@@ -19,6 +19,7 @@ from ..geometry import (
     sample_closed_polyline,
     stitch_path,
 )
+from ..geometry.bundle import chain_fill
 from ..geometry.mat import Waviness, wavy_chains
 from ..geometry.size import MAX_BEADS, check_model_size
 from ..spec import FabricSpec, SpecError, StitchSpec
@@ -97,7 +98,7 @@ def _ply_part(spec: FabricSpec, index: int, cell: tuple[float, float], z_bottom:
     rho = units.to_micro(ply.density_g_cm3, "g_cm3")
     modulus = units.to_micro(ply.E_GPa, "GPa")
     chain_length, across = cell if along_x else cell[::-1]
-    fill = spec.discretisation.chain_internal_fvf
+    fill = chain_fill(spec)
     waviness = _waviness(spec)
     layout = ply_layout(
         units.to_micro(ply.areal_weight_g_m2, "g_m2"),
