@@ -54,6 +54,11 @@ CONTROL_EVERY = 10
 #: moving this far per step has (1e-3 / GUARD_KINETIC_FLOOR_STEP_MOVE)^2 = 11 x the kinetic
 #: guard's floor energy, below its jump factor of 50, so the kinetic guard stays armed.
 PUSHOFF_STEP_MOVE = 1.0e-3
+#: The push-off halts at the contact force of this fraction of the tolerated overlap: the
+#: contact damping of pairs parting at the move limit lowers their force below k_n x overlap
+#: (by half on the coarse random bed of tests/test_random_mat.py, measured against the overlap
+#: of the same state at rest); the stage check then measures the overlap itself.
+PUSHOFF_FORCE_MARGIN = 0.25
 
 #: History rows (of ``CONTROL_EVERY * WINDOW // 2`` steps) over which the final creep rate of the
 #: stitch strain is fitted.
@@ -179,12 +184,12 @@ def deck_values(run: Prepared) -> dict:
 
 def _pushoff_values(run: Prepared) -> dict:
     """The push-off stage's move limit (um per step), halt period, step cap and the contact
-    force (nN) at the tolerated overlap: ``k_n delta`` (hooke) or ``4/3 E* sqrt(R* delta)
-    delta`` (hertz, ``E* = E / 2``, ``R*`` of two of the smallest chains: a larger pair at that
-    force overlaps less)."""
+    force (nN) at :data:`PUSHOFF_FORCE_MARGIN` of the tolerated overlap ``delta``: ``k_n
+    delta`` (hooke) or ``4/3 E* sqrt(R* delta) delta`` (hertz, ``E* = E / 2``, ``R*`` of two of
+    the smallest chains: a larger pair at that force overlaps less)."""
     model, law = run.model, run.contact
     d_min = float(model.diameter[model.role_mask("fibre")].min())
-    delta = run.spec.mat.pushoff_overlap_tolerance * d_min
+    delta = PUSHOFF_FORCE_MARGIN * run.spec.mat.pushoff_overlap_tolerance * d_min
     if law.model == "hooke":
         force = law.normal * delta
     else:
@@ -257,10 +262,12 @@ def _check_pushoff(engine: Engine, run: Prepared, stage: str) -> dict:
         return {"pushoff_initial_max_overlap_d": _fibre_overlap(engine, run)}
     overlap = _fibre_overlap(engine, run)
     if overlap > mat.pushoff_overlap_tolerance:
+        capped = engine.step >= mat.max_pushoff_steps
+        why = "the step cap mat.max_pushoff_steps" if capped else "its contact-force criterion"
         raise ManufactureError(
             f"push-off check at step {engine.step}: fibre beads still overlap by {overlap:.3g} d"
-            f" (tolerance {mat.pushoff_overlap_tolerance:g} d) after the cap of"
-            f" {mat.max_pushoff_steps} steps; raise mat.max_pushoff_steps or lower"
+            f" (tolerance {mat.pushoff_overlap_tolerance:g} d) when the stage stopped at {why};"
+            " raise mat.max_pushoff_steps or manufacture.damping_time_us, or lower"
             " mat.initial_fvf or mat.waviness_amplitude_um"
         )
     return {"pushoff_steps": engine.step, "pushoff_max_overlap_d": overlap}
