@@ -20,6 +20,7 @@ from typing import Any
 __all__ = [
     "HEXAGONAL_PACKING",
     "PATTERNS",
+    "RANDOM_JAMMING",
     "CellSpec",
     "CompactionSpec",
     "ContactSpec",
@@ -241,7 +242,33 @@ class MatSpec:
     waviness_phase_spread_deg: float = _f(
         360.0, 0.0, 360.0, unit="deg", source="chain phases uniform in [0, spread): 0 in phase"
     )
-    seed: int = _f(1, 0, 2**31 - 1, unit="-", source="random phases of the waviness")
+    seed: int = _f(
+        1, 0, 2**31 - 1, unit="-", source="random phases of the waviness and the random bed"
+    )
+    arrangement: str = _f(
+        "rows",
+        choices=("rows", "random"),
+        source="rows: aligned sub-rows (paper); random: seeded random bed (docs/fidelity.md)",
+    )
+    diameter_spread: float = _f(
+        0.0,
+        0.0,
+        0.3,
+        unit="-",
+        source="0: one chain diameter per ply (paper); relative std of the chain diameters"
+        " (random only)",
+    )
+    pushoff_overlap_tolerance: float = _f(
+        0.02,
+        1e-3,
+        0.5,
+        unit="d",
+        source="largest fibre-fibre overlap after the push-off, fraction of the smallest chain"
+        " diameter (random only); model choice, below the 0.05 d of the insertion check",
+    )
+    max_pushoff_steps: int = _f(
+        200_000, 1, 10**10, unit="steps", source="safety cap of the push-off (random only)"
+    )
 
 
 @dataclass(frozen=True)
@@ -602,6 +629,7 @@ def _check_consistency(spec: FabricSpec) -> None:
             "rests at 180 deg only: use 'harmonic' with mat.waviness_amplitude_um > 0",
         )
     _check_bundle(spec)
+    _check_random_bed(spec)
     internal = spec.discretisation.chain_internal_fvf
     if spec.contact.normal_model == "bundle":
         internal = spec.contact.bundle_max_fvf
@@ -647,6 +675,43 @@ def _check_bundle(spec: FabricSpec) -> None:
             "ply.E_GPa",
             sorted(moduli),
             "must be one value for contact.normal_model = 'bundle' (one law for every contact)",
+        )
+
+
+#: Area fraction at which random sequential addition of equal discs jams (Feder, J. Theor.
+#: Biol. 87, 1980: 0.547): the densest random bed of chains, whose cross-sections are discs.
+RANDOM_JAMMING = 0.547
+
+
+def _check_random_bed(spec: FabricSpec) -> None:
+    """The random-bed keys: read only with ``mat.arrangement = 'random'``, which needs a stitch
+    (its push-off runs in the manufacture scene) and a Vf its random bed can reach."""
+    mat = spec.mat
+    if mat.arrangement == "rows":
+        defaults = MatSpec()
+        for key in ("diameter_spread", "pushoff_overlap_tolerance", "max_pushoff_steps"):
+            if getattr(mat, key) != getattr(defaults, key):
+                raise SpecError(
+                    f"mat.{key}", getattr(mat, key), "is only read with mat.arrangement = 'random'"
+                )
+        return
+    if spec.stitch is None:
+        raise SpecError(
+            "mat.arrangement",
+            "random",
+            "needs a [stitch] table: its push-off runs in the manufacture scene (use 'rows')",
+        )
+    fill = spec.discretisation.chain_internal_fvf
+    if spec.contact.normal_model == "bundle":
+        fill = spec.contact.bundle_free_fvf  # the law's onset lies at or just above V0
+    densest = RANDOM_JAMMING * fill
+    if mat.initial_fvf > densest:
+        raise SpecError(
+            "mat.initial_fvf",
+            mat.initial_fvf,
+            f"out of range for mat.arrangement = 'random': chains of internal Vf {fill:g} jam at"
+            f" {densest:.3f} (random packing of discs, area fraction {RANDOM_JAMMING});"
+            f" allowed [0.01, {densest:.3f}], or use 'rows'",
         )
 
 

@@ -33,6 +33,7 @@ def max_overlap(
     first: np.ndarray,
     second: np.ndarray,
     lengths: np.ndarray,
+    mol_id: np.ndarray | None = None,
 ) -> tuple[float, int, int]:
     """Largest overlap ``(r_i + r_j) - |x_i - x_j|`` between a bead of ``first`` and one of ``second``.
 
@@ -40,6 +41,7 @@ def max_overlap(
         positions: (N, 3) bead centres (um); diameter: (N,) (um).
         first, second: (N,) bool masks of the two groups.
         lengths: (3,) orthogonal box edges; x, y periodic, z open.
+        mol_id: (N,) chain of each bead; given, pairs of one chain are left out.
 
     Returns:
         (overlap in um, index i, index j); overlap <= 0 means no contact (then i = j = -1).
@@ -54,6 +56,11 @@ def max_overlap(
     if len(pairs) == 0:
         return 0.0, -1, -1
     i, j = a[pairs[:, 0]], b[pairs[:, 1]]
+    if mol_id is not None:
+        keep = mol_id[i] != mol_id[j]
+        i, j, distances = i[keep], j[keep], distances[keep]
+        if len(i) == 0:
+            return 0.0, -1, -1
     overlap = 0.5 * (diameter[i] + diameter[j]) - distances
     k = int(np.argmax(overlap))
     if overlap[k] <= 0.0:

@@ -42,7 +42,7 @@ from .journal import Checkpoints, Journal, replay, strip_comment
 
 __all__ = ["run_deck"]
 
-_STAGE = re.compile(r"^#\s*stage:\s*(\w+)")
+_STAGE = re.compile(r"^#\s*stage:\s*([\w-]+)")
 _RUN = re.compile(r"^run\s+(\d+)\s*$")
 #: Marks a deck line that must be evaluated afresh when a run is resumed (not journaled values).
 _LIVE = "# resume: live"

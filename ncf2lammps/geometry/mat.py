@@ -6,6 +6,12 @@ then corrected so that ``N pi d^2 / 4`` equals the fibre cross-section exactly (
 fibre volume constant). Chains sit in ``floor(t / d)`` sub-rows spaced at least ``d`` apart; each
 row holds ``N // rows`` or one more chains evenly spaced across the periodic width, so rows tile
 the period exactly and no two chains overlap.
+
+A random bed (:class:`RandomBed`) keeps the chain count and the diameter (or draws per-chain
+diameters of the same total cross-section) and places the chain axes at seeded random spots
+of the ply's periodic cross-section, rejecting spots closer to a placed chain than
+:data:`PLACEMENT_CLEARANCE` of their contact distance; the overlaps left are removed in LAMMPS
+(the manufacture scene's push-off stage).
 """
 
 from __future__ import annotations
@@ -17,11 +23,28 @@ import numpy as np
 from ..spec import SpecError
 from .chains import BeadChain, sample_closed_polyline
 
-__all__ = ["VERTICES_PER_WAVE", "PlyLayout", "Waviness", "ply_chains", "ply_layout", "wavy_chains"]
+__all__ = [
+    "PLACEMENT_CLEARANCE",
+    "VERTICES_PER_WAVE",
+    "PlyLayout",
+    "RandomBed",
+    "Waviness",
+    "ply_chains",
+    "ply_layout",
+    "wavy_chains",
+]
 
 #: Polyline corners per wavelength of a wavy chain: a sine sampled at 16 points, every corner a
 #: bead; its segments come in four lengths, so a ply gets a handful of bond and angle types.
 VERTICES_PER_WAVE = 16
+
+#: Closest approach of two chain axes of a random bed, fraction of their contact distance: the
+#: initial overlap stays below half a contact distance, and no two chains start (nearly) on top
+#: of each other, where their contact forces would have no direction to push them apart.
+PLACEMENT_CLEARANCE = 0.5
+
+#: Candidate spots drawn at once per chain, and the most drawn, of the random placement.
+_BATCH, _MAX_CANDIDATES = 256, 256 * 400
 
 
 @dataclass(frozen=True)
@@ -78,6 +101,28 @@ class Waviness:
 
 
 @dataclass(frozen=True)
+class RandomBed:
+    """A random bed: chain axes at seeded random spots, diameters of relative spread ``spread``
+    (lognormal, clipped at 2 standard deviations, rescaled to the ply's fibre cross-section)."""
+
+    seed: int
+    spread: float
+
+    def rng(self, stream: int) -> np.random.Generator:
+        """The bed's generator of ply ``stream`` (the third word keeps it apart from the
+        waviness phases, drawn from ``[seed, stream]``)."""
+        return np.random.default_rng([self.seed, stream, 1])
+
+    def diameters(self, n_chains: int, d: float, rng: np.random.Generator) -> np.ndarray:
+        """(n_chains,) chain diameters (um) with ``sum d_c^2 = n_chains d^2`` exactly."""
+        if self.spread == 0.0:
+            return np.full(n_chains, d)
+        sigma = np.sqrt(np.log1p(self.spread**2))
+        draws = np.exp(sigma * np.clip(rng.standard_normal(n_chains), -2.0, 2.0))
+        return d * draws * np.sqrt(n_chains / np.sum(draws**2))
+
+
+@dataclass(frozen=True)
 class PlyLayout:
     """Chain arrangement of one ply in its cross-section (all lengths in um).
 
@@ -88,6 +133,10 @@ class PlyLayout:
         row_z: (R,) float, height of each sub-row's chain axes.
         beads_per_chain: beads on each chain (= bonds, chains are closed).
         spacing: bead spacing = bond rest length.
+        axes: (n_chains, 2) position across and height of each chain axis of a random bed;
+            None in rows.
+        diameters: (n_chains,) chain diameters of a random bed with a spread (squares summing to
+            ``n_chains diameter^2``); None: every chain ``diameter``.
     """
 
     n_chains: int
@@ -96,6 +145,8 @@ class PlyLayout:
     row_z: np.ndarray
     beads_per_chain: int
     spacing: float
+    axes: np.ndarray | None = None
+    diameters: np.ndarray | None = None
 
 
 def ply_layout(
@@ -110,6 +161,8 @@ def ply_layout(
     field_prefix: str = "ply",
     fill: float = 1.0,
     waviness: Waviness | None = None,
+    bed: RandomBed | None = None,
+    stream: int = 0,
 ) -> PlyLayout:
     """Arrange one ply's chains (lengths um, areal weight pg/um^2, density pg/um^3).
 
@@ -117,7 +170,8 @@ def ply_layout(
     is the chain's internal fibre volume fraction: a chain of diameter ``d`` carries the fibre
     cross-section ``fill pi d^2 / 4``. With ``waviness`` the chains are longer than the cell by
     its length factor (their diameter shrinks to keep the fibre volume) and their neighbours are
-    spaced so that the wavy chains cannot touch (otherwise a SpecError).
+    spaced so that the wavy chains cannot touch (otherwise a SpecError). With ``bed`` the chains
+    are placed at random (:func:`_random_axes`, generator stream ``stream``), overlaps allowed.
     """
     fibre_area = areal_weight / density * width  # fibre cross-section of the cell, um^2
     if waviness is not None:
@@ -125,8 +179,9 @@ def ply_layout(
     n_chains = max(1, round(fibre_area / (fill * np.pi * diameter**2 / 4.0)))
     d = float(np.sqrt(4.0 * fibre_area / (np.pi * n_chains * fill)))
     thickness = areal_weight / (fvf * density)
+    beads = max(3, round(chain_length / (spacing_ratio * d)))
     row_pitch = across_pitch = d
-    if waviness is not None:
+    if waviness is not None and bed is None:
         row_pitch, across_pitch = _wavy_pitches(waviness, d, chain_length, spacing_ratio)
         if thickness < row_pitch:
             raise SpecError(
@@ -142,12 +197,14 @@ def ply_layout(
             f"chains of {d:.4g} um do not fit the {thickness:.4g} um thick {field_prefix} of the"
             " homogeneous mat (use chains at most as thick as the ply, or a lower mat.initial_fvf)",
         )
+    if bed is not None:
+        args = (n_chains, d, thickness, z_bottom, width, chain_length, spacing_ratio, beads)
+        return _random_layout(*args, bed, stream, waviness, f"{field_prefix} at Vf {fvf:g}")
     n_rows = int(min(n_chains, max(1, np.floor(thickness / row_pitch * (1.0 + 1e-12)))))
     rows = np.full(n_rows, n_chains // n_rows, dtype=np.int64)
     rows[: n_chains % n_rows] += 1
     _check_rows_fit(rows.max(), width, d, across_pitch, fvf, waviness, field_prefix)
     row_z = z_bottom + (np.arange(n_rows) + 0.5) * thickness / n_rows
-    beads = max(3, round(chain_length / (spacing_ratio * d)))
     return PlyLayout(n_chains, d, rows, row_z, beads, chain_length / beads)
 
 
@@ -180,18 +237,108 @@ def _check_rows_fit(
         )
 
 
+def _random_layout(
+    n_chains: int,
+    d: float,
+    thickness: float,
+    z_bottom: float,
+    width: float,
+    chain_length: float,
+    spacing_ratio: float,
+    beads: int,
+    bed: RandomBed,
+    stream: int,
+    waviness: Waviness | None,
+    field_prefix: str,
+) -> PlyLayout:
+    """The random bed of a ply of ``n_chains`` chains of nominal diameter ``d`` in its slab
+    (``thickness`` from ``z_bottom``, um): per-chain diameters, then axes kept a wave amplitude
+    (out of the plane) and a radius inside the slab."""
+    rise = 0.0
+    if waviness is not None:
+        _check_corners(waviness, d, chain_length, spacing_ratio)
+        rise = waviness.amplitude if waviness.out_of_plane else 0.0
+    rng = bed.rng(stream)
+    diameters = bed.diameters(n_chains, d, rng)
+    slab = (z_bottom + rise, z_bottom + thickness - rise)
+    if diameters.max() > slab[1] - slab[0]:
+        key, value = (
+            ("mat.diameter_spread", bed.spread)
+            if bed.spread > 0.0
+            else ("mat.waviness_amplitude_um", rise)
+        )
+        raise SpecError(
+            key,
+            value,
+            f"a {diameters.max():.4g} um chain does not fit the {slab[1] - slab[0]:.4g} um"
+            f" of the {thickness:.4g} um thick {field_prefix} that its waves leave (lower"
+            f" {key} or discretisation.chain_diameter_um, or mat.initial_fvf)",
+        )
+    axes = _random_axes(diameters, width, slab, rng, field_prefix)
+    rows = np.array([n_chains])
+    return PlyLayout(
+        n_chains,
+        d,
+        rows,
+        np.array([z_bottom + thickness / 2]),
+        beads,
+        chain_length / beads,
+        axes,
+        diameters if bed.spread > 0.0 else None,
+    )
+
+
+def _random_axes(
+    diameters: np.ndarray,
+    width: float,
+    slab: tuple[float, float],
+    rng: np.random.Generator,
+    field_prefix: str,
+) -> np.ndarray:
+    """(C, 2) axes (across, height) of chains of ``diameters`` (um) by random sequential
+    placement, thickest first: uniform across the periodic ``width``, heights keeping each chain
+    inside ``slab`` (bottom, top, um); a spot closer to a placed axis than
+    :data:`PLACEMENT_CLEARANCE` of their contact distance is drawn again."""
+    axes = np.empty((len(diameters), 2))
+    order = np.argsort(-diameters, kind="stable")
+    for k, c in enumerate(order):
+        lo, hi = slab[0] + diameters[c] / 2, slab[1] - diameters[c] / 2
+        placed = order[:k]
+        reach = PLACEMENT_CLEARANCE * (diameters[c] + diameters[placed]) / 2
+        for _ in range(_MAX_CANDIDATES // _BATCH):
+            spots = np.column_stack([rng.uniform(0.0, width, _BATCH), rng.uniform(lo, hi, _BATCH)])
+            gap = spots[:, None, :] - axes[placed][None, :, :]
+            gap[..., 0] -= np.rint(gap[..., 0] / width) * width
+            free = np.all(np.hypot(gap[..., 0], gap[..., 1]) >= reach, axis=1)
+            if free.any():
+                axes[c] = spots[np.argmax(free)]
+                break
+        else:
+            raise SpecError(
+                "mat.arrangement",
+                "random",
+                f"no free spot for chain {c} of {field_prefix} in {_MAX_CANDIDATES} random draws"
+                " (lower mat.initial_fvf or use mat.arrangement = 'rows')",
+            )
+    return axes
+
+
 def ply_chains(layout: PlyLayout, along_x: bool, width: float) -> np.ndarray:
     """Bead centres of a ply, shape (n_chains, beads_per_chain, 3), chain by chain.
 
     Chains run along x (``along_x``) or y; within a row they are evenly spaced across ``width``,
-    odd rows shifted by half a pitch. Beads of chain ``c`` start at ``(c mod 2) s / 2`` so that
-    neighbouring chains do not put beads side by side.
+    odd rows shifted by half a pitch (a random bed: at its axes). Beads of chain ``c`` start at
+    ``(c mod 2) s / 2`` so that neighbouring chains do not put beads side by side.
     """
     row_of_chain = np.repeat(np.arange(len(layout.rows)), layout.rows)
-    first_in_row = np.concatenate([[0], np.cumsum(layout.rows)[:-1]])
-    slot = np.arange(layout.n_chains) - first_in_row[row_of_chain]
-    pitch = width / layout.rows[row_of_chain]
-    across = (slot + 0.5 + 0.5 * (row_of_chain % 2)) * pitch % width
+    if layout.axes is None:
+        first_in_row = np.concatenate([[0], np.cumsum(layout.rows)[:-1]])
+        slot = np.arange(layout.n_chains) - first_in_row[row_of_chain]
+        pitch = width / layout.rows[row_of_chain]
+        across = (slot + 0.5 + 0.5 * (row_of_chain % 2)) * pitch % width
+        height = layout.row_z[row_of_chain]
+    else:
+        across, height = layout.axes.T
     along = (
         np.arange(layout.beads_per_chain)[None, :] + 0.5 * (np.arange(layout.n_chains) % 2)[:, None]
     ) * layout.spacing
@@ -199,7 +346,7 @@ def ply_chains(layout: PlyLayout, along_x: bool, width: float) -> np.ndarray:
     axis_along, axis_across = (0, 1) if along_x else (1, 0)
     positions[..., axis_along] = along
     positions[..., axis_across] = across[:, None]
-    positions[..., 2] = layout.row_z[row_of_chain][:, None]
+    positions[..., 2] = height[:, None]
     return positions
 
 
@@ -211,6 +358,17 @@ def _wavy_pitches(waviness: Waviness, d: float, chain_length: float, spacing_rat
     a)`` (crossing chains, each sloping); ``G`` is the pitch less the relative displacement.
     In-plane waviness needs room within a row, out-of-plane waviness between rows and plies.
     """
+    _check_corners(waviness, d, chain_length, spacing_ratio)
+    tan = waviness.slope(chain_length)
+    if waviness.out_of_plane:
+        row = d * np.sqrt(1.0 + 2.0 * tan**2) + waviness.relative_displacement(True)
+        return float(row), d
+    across = d * np.sqrt(1.0 + tan**2) + waviness.relative_displacement(False)
+    return d, float(across)
+
+
+def _check_corners(waviness: Waviness, d: float, chain_length: float, spacing_ratio: float):
+    """SpecError unless the polyline's corners are at least a bead spacing apart (um)."""
     segment = chain_length / (waviness.waves * VERTICES_PER_WAVE)
     if segment < spacing_ratio * d:
         most = int(chain_length / (VERTICES_PER_WAVE * spacing_ratio * d))
@@ -220,12 +378,6 @@ def _wavy_pitches(waviness: Waviness, d: float, chain_length: float, spacing_rat
             f"waves too short for beads {spacing_ratio * d:.4g} um apart: at most {most} per"
             f" cell edge of {chain_length:.4g} um ({VERTICES_PER_WAVE} corners per wave)",
         )
-    tan = waviness.slope(chain_length)
-    if waviness.out_of_plane:
-        row = d * np.sqrt(1.0 + 2.0 * tan**2) + waviness.relative_displacement(True)
-        return float(row), d
-    across = d * np.sqrt(1.0 + tan**2) + waviness.relative_displacement(False)
-    return d, float(across)
 
 
 def wavy_chains(

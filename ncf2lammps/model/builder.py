@@ -20,7 +20,7 @@ from ..geometry import (
     stitch_path,
 )
 from ..geometry.bundle import chain_fill
-from ..geometry.mat import Waviness, wavy_chains
+from ..geometry.mat import RandomBed, Waviness, wavy_chains
 from ..geometry.size import MAX_BEADS, check_model_size
 from ..spec import FabricSpec, SpecError, StitchSpec
 from .core import AngleType, AtomType, BondType, Box, Model
@@ -112,9 +112,11 @@ def _ply_part(spec: FabricSpec, index: int, cell: tuple[float, float], z_bottom:
         f"ply[{index}]",
         fill=fill,
         waviness=waviness,
+        bed=_bed(spec),
+        stream=index,
     )
     d = layout.diameter
-    area = fill * np.pi * d**2 / 4.0  # fibre cross-section of one chain
+    area = fill * np.pi * d**2 / 4.0  # fibre cross-section of a chain of diameter d
     name = f"ply{index}_{ply.angle_deg:g}deg"
     if waviness is None:
         beads = ply_chains(layout, along_x, across)
@@ -123,22 +125,57 @@ def _ply_part(spec: FabricSpec, index: int, cell: tuple[float, float], z_bottom:
         beads, template = wavy_chains(layout, along_x, across, chain_length, waviness, index)
         chains = _wavy_chains(beads, template, chain_length, name, modulus * area)
     n_chains, per_chain = chains.beads.shape[:2]
+    d_chain = np.full(n_chains, d) if layout.diameters is None else layout.diameters
     local = np.arange(n_chains * per_chain).reshape(n_chains, per_chain)
+    # Each bead's mass is its own fibre cross-section times the chain length it stands for.
+    lengths = chains.length_per_bead[None, :]
+    density = (
+        rho * area * (d_chain[:, None] / d) ** 2 * lengths / (np.pi * d_chain[:, None] ** 3 / 6)
+    )
     part = Part(
         positions=_wrapped(chains.beads, cell),
         type_id=np.zeros(n_chains * per_chain, dtype=np.int64),
-        density=np.tile(rho * area * chains.length_per_bead / (np.pi * d**3 / 6.0), n_chains),
+        density=density.ravel(),
         mol_id=np.repeat(np.arange(n_chains), per_chain),
         bonds=np.stack([local, np.roll(local, -1, axis=1)], axis=-1).reshape(-1, 2),
         bond_type=np.tile(chains.bond_type, n_chains),
-        atom_types=(AtomType(name, "fibre", d, rho, modulus, ply.angle_deg, fill),),
+        atom_types=(
+            AtomType(name, "fibre", float(d_chain.max()), rho, modulus, ply.angle_deg, fill),
+        ),
         bond_types=chains.bond_types,
-        fibre_volume=area * chains.fibre_length * n_chains,
+        fibre_volume=area * chains.fibre_length * float(np.sum((d_chain / d) ** 2)),
+        bead_diameter=None if layout.diameters is None else np.repeat(d_chain, per_chain),
     )
-    if spec.discretisation.bending == "none":
+    if spec.discretisation.bending != "none":
+        bending = area * modulus * ply.filament_diameter_um**2 / 16.0  # N_f E pi d_f^4 / 64
+        part = _bent(part, spec.discretisation.bending, bending, chains, name)
+    if layout.diameters is None:
         return part
-    bending = area * modulus * ply.filament_diameter_um**2 / 16.0  # N_f E pi d_f^4 / 64
-    return _bent(part, spec.discretisation.bending, bending, chains, name)
+    return _per_chain_stiffness(part, (d_chain / d) ** 2, per_chain)
+
+
+def _per_chain_stiffness(part: Part, scale: np.ndarray, per_chain: int) -> Part:
+    """``part`` with each chain's own bond and angle types, stiffnesses (``k``, ``EA``, ``EI``)
+    x ``scale`` (C,): a chain's fibre cross-section over the nominal one (a diameter spread)."""
+    chain_of_bond = np.arange(len(part.bond_type)) // per_chain
+    chain_of_angle = np.arange(len(part.angle_type)) // per_chain
+    bonds = tuple(
+        replace(t, name=f"{t.name}_c{c}", k=t.k * f, axial_stiffness=t.axial_stiffness * f)
+        for c, f in enumerate(scale)
+        for t in part.bond_types
+    )
+    angles = tuple(
+        replace(t, name=f"{t.name}_c{c}", k=t.k * f, bending_stiffness=t.bending_stiffness * f)
+        for c, f in enumerate(scale)
+        for t in part.angle_types
+    )
+    return replace(
+        part,
+        bond_type=part.bond_type + chain_of_bond * len(part.bond_types),
+        bond_types=bonds,
+        angle_type=part.angle_type + chain_of_angle * len(part.angle_types),
+        angle_types=angles,
+    )
 
 
 def _straight_chains(beads, spacing, chain_length, name, axial) -> _PlyChains:
@@ -187,6 +224,14 @@ def _waviness(spec: FabricSpec) -> Waviness | None:
         phase_spread=mat.waviness_phase_spread_deg / 360.0,
         seed=mat.seed,
     )
+
+
+def _bed(spec: FabricSpec) -> RandomBed | None:
+    """The mat's random bed, None for the paper's rows."""
+    mat = spec.mat
+    if mat.arrangement == "rows":
+        return None
+    return RandomBed(seed=mat.seed, spread=mat.diameter_spread)
 
 
 def _rest_angles(chain: np.ndarray, chain_length: float) -> np.ndarray:

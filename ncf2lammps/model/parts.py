@@ -32,6 +32,8 @@ class Part:
         angles: (a, 3) int, bead indices (end, vertex, end); angle_type: (a,) int, index into
             :attr:`angle_types`.
         needle_points: (p, 2) float, needle hole centres (x, y) (um); needle_diameter (um).
+        bead_diameter: (n,) float, bead diameters (um) where they vary within a type (a
+            diameter spread); None: each bead has its type's diameter.
     """
 
     positions: np.ndarray
@@ -48,6 +50,7 @@ class Part:
     angle_types: tuple[AngleType, ...] = ()
     needle_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     needle_diameter: float = 0.0
+    bead_diameter: np.ndarray | None = None
 
     @property
     def n_chains(self) -> int:
@@ -56,7 +59,9 @@ class Part:
 
     @property
     def diameter(self) -> np.ndarray:
-        """(n,) bead diameters from the atom types (um)."""
+        """(n,) bead diameters (um): :attr:`bead_diameter`, else the atom types'."""
+        if self.bead_diameter is not None:
+            return self.bead_diameter
         return np.array([t.diameter for t in self.atom_types])[self.type_id]
 
 
@@ -83,7 +88,7 @@ def join(
     """The model of the parts in order, in ``box``.
 
     Bead, molecule and type indices of each part are shifted past those of the parts before it;
-    the type tables are concatenated; diameters come from the atom types; fibre volumes add up,
+    the type tables are concatenated; diameters are the parts' (:attr:`Part.diameter`); fibre volumes add up,
     needle holes are concatenated and the needle diameter is the largest. ``mat_thickness``
     (um), ``faces_z`` (bottom, top, um) and ``angle_style`` (LAMMPS style of the angle types,
     ``"none"`` without angles) are the model's. ``parts``: one at least.
@@ -93,7 +98,7 @@ def join(
     type_id = _stacked(parts, "type_id", [len(p.atom_types) for p in parts])
     return Model(
         positions=np.concatenate([p.positions for p in parts]),
-        diameter=np.array([t.diameter for t in atom_types])[type_id],
+        diameter=np.concatenate([p.diameter for p in parts]),
         density=np.concatenate([p.density for p in parts]),
         type_id=type_id,
         mol_id=_stacked(parts, "mol_id", [p.n_chains for p in parts]),

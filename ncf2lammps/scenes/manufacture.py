@@ -2,6 +2,12 @@
 
 Stages, in order (templates/manufacture.lmp.j2 marks each with ``# stage:``):
 
+0. ``push-off`` (only with ``mat.arrangement = "random"``): the random bed's overlaps pushed
+   apart, fibre-fibre contacts only, every fibre bead's move per step limited (``fix
+   nve/limit``) under the fibre drag, until the largest contact force is that of
+   ``mat.pushoff_overlap_tolerance`` x the smallest chain diameter or ``mat.max_pushoff_steps``
+   have run. Checked at both ends (Python): the largest geometric overlap before and after;
+   above the tolerance after, the run stops with what to change.
 1. ``needles``: stitch beads frozen and out of contact; one cylinder per needle hole (and its
    periodic images near the cell edge) grows from a thread to the needle radius at the needle
    speed and pushes fibre beads out (``fix wall/region`` harmonic, cutoff = bead radius), under
@@ -44,6 +50,16 @@ __all__ = ["SCENE", "ManufactureError", "needle_axes"]
 WINDOW = 20
 #: Steps between controller updates and convergence samples.
 CONTROL_EVERY = 10
+#: Largest move of a bead in one push-off step, fraction of the smallest diameter: every bead
+#: moving this far per step has (1e-3 / GUARD_KINETIC_FLOOR_STEP_MOVE)^2 = 11 x the kinetic
+#: guard's floor energy, below its jump factor of 50, so the kinetic guard stays armed.
+PUSHOFF_STEP_MOVE = 1.0e-3
+#: The push-off halts at the contact force of this fraction of the tolerated overlap: the
+#: contact damping of pairs parting at the move limit lowers their force below k_n x overlap
+#: (by half on the coarse random bed of tests/test_random_mat.py, measured against the overlap
+#: of the same state at rest); the stage check then measures the overlap itself.
+PUSHOFF_FORCE_MARGIN = 0.25
+
 #: History rows (of ``CONTROL_EVERY * WINDOW // 2`` steps) over which the final creep rate of the
 #: stitch strain is fitted.
 CREEP_ROWS = 20
@@ -162,6 +178,27 @@ def deck_values(run: Prepared) -> dict:
         "kinetic_ratio_target": settings.kinetic_ratio_target,
         "relax_steps": settings.max_relax_steps,
         "history_every": CONTROL_EVERY * WINDOW // 2,
+        "pushoff": _pushoff_values(run) if spec.mat.arrangement == "random" else None,
+    }
+
+
+def _pushoff_values(run: Prepared) -> dict:
+    """The push-off stage's move limit (um per step), halt period, step cap and the contact
+    force (nN) at :data:`PUSHOFF_FORCE_MARGIN` of the tolerated overlap ``delta``: ``k_n
+    delta`` (hooke) or ``4/3 E* sqrt(R* delta) delta`` (hertz, ``E* = E / 2``, ``R*`` of two of
+    the smallest chains: a larger pair at that force overlaps less)."""
+    model, law = run.model, run.contact
+    d_min = float(model.diameter[model.role_mask("fibre")].min())
+    delta = PUSHOFF_FORCE_MARGIN * run.spec.mat.pushoff_overlap_tolerance * d_min
+    if law.model == "hooke":
+        force = law.normal * delta
+    else:
+        force = 4.0 / 3.0 * (law.normal / 2.0) * np.sqrt(d_min / 4.0 * delta) * delta
+    return {
+        "step_limit": PUSHOFF_STEP_MOVE * float(model.diameter.min()),
+        "every": CONTROL_EVERY,
+        "steps": run.spec.mat.max_pushoff_steps,
+        "force": float(force),
     }
 
 
@@ -207,14 +244,49 @@ def _check_channels_and_overlap(engine: Engine, run: Prepared) -> dict:
 CHECKS_FILE = "manufacture.checks.json"
 
 
+def _fibre_overlap(engine: Engine, run: Prepared) -> float:
+    """Largest overlap of two fibre beads of different chains now, fraction of the smallest
+    chain diameter."""
+    model = run.model
+    fibre = model.role_mask("fibre")
+    positions = engine.gather("x", 3)
+    overlap = max_overlap(positions, model.diameter, fibre, fibre, model.box.lengths, model.mol_id)
+    return max(0.0, overlap[0]) / float(model.diameter[fibre].min())
+
+
+def _check_pushoff(engine: Engine, run: Prepared, stage: str) -> dict:
+    """At ``push-off``: the random bed's initial overlap; at ``needles`` after a push-off: its
+    steps and final overlap, a ManufactureError above ``mat.pushoff_overlap_tolerance``."""
+    mat = run.spec.mat
+    if stage == "push-off":
+        return {"pushoff_initial_max_overlap_d": _fibre_overlap(engine, run)}
+    overlap = _fibre_overlap(engine, run)
+    if overlap > mat.pushoff_overlap_tolerance:
+        capped = engine.step >= mat.max_pushoff_steps
+        why = "the step cap mat.max_pushoff_steps" if capped else "its contact-force criterion"
+        raise ManufactureError(
+            f"push-off check at step {engine.step}: fibre beads still overlap by {overlap:.3g} d"
+            f" (tolerance {mat.pushoff_overlap_tolerance:g} d) when the stage stopped at {why};"
+            " raise mat.max_pushoff_steps or manufacture.damping_time_us, or lower"
+            " mat.initial_fvf or mat.waviness_amplitude_um"
+        )
+    return {"pushoff_steps": engine.step, "pushoff_max_overlap_d": overlap}
+
+
 def _stage_checks(engine: Engine, run: Prepared, stage: str) -> dict:
-    """At ``insertion``: the channel and overlap checks; their measures are also kept in
-    :data:`CHECKS_FILE` (rank 0) for :func:`collect`."""
-    if stage != "insertion":
+    """At ``insertion``: the channel and overlap checks; at ``push-off`` and ``needles`` of a
+    random bed: :func:`_check_pushoff`. Their measures are also kept in :data:`CHECKS_FILE`
+    (rank 0, merged with the earlier stages') for :func:`collect`."""
+    if stage == "insertion":
+        checks = _check_channels_and_overlap(engine, run)
+    elif run.spec.mat.arrangement == "random" and stage in ("push-off", "needles"):
+        checks = _check_pushoff(engine, run, stage)
+    else:
         return {}
-    checks = _check_channels_and_overlap(engine, run)
     if engine.rank == 0:
-        Path(CHECKS_FILE).write_text(json.dumps(checks))
+        path = Path(CHECKS_FILE)
+        earlier = json.loads(path.read_text()) if path.is_file() else {}
+        path.write_text(json.dumps({**earlier, **checks}))
     return checks
 
 
