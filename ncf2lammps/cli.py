@@ -66,6 +66,11 @@ def _check(args) -> int:
         f" fibre stiffness scaling {numerics.fibre_stiffness_scaling:g})",
         f"contact       {law.model}: k_n = {units.from_micro(law.stiffness, 'N_m'):.4g} N/m, mu = {law.friction:g}",
     ]
+    if law.stitch is not None:
+        lines.append(
+            f"  fibre-stitch {law.stitch.model}: k_n ="
+            f" {units.from_micro(law.stitch.stiffness, 'N_m'):.4g} N/m (rigid stitch contacts)"
+        )
     bundle = spec_bundle_law(spec)
     if bundle is not None:
         lo, hi = FIT_WINDOW_KPA

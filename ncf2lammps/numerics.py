@@ -118,35 +118,49 @@ class ContactLaw:
     damping: float
     tangential: float
     friction: float
+    stitch: ContactLaw | None = None
 
 
 def contact_law(spec: FabricSpec, model: Model) -> ContactLaw:
     """The contact law of ``spec`` evaluated for the lightest and smallest beads of ``model``
-    (masses of the :func:`simulated_model`)."""
+    (masses of the :func:`simulated_model`).
+
+    Under the bundle law the fibre-stitch pairs keep the rigid hooke law of
+    ``contact.normal_stiffness_N_m`` (attribute ``stitch``): the Hertz mapping holds over the
+    bed law's window only, and a tensioned stitch presses its thin yarn into a bundle at
+    megapascals, where the mapped contact would let it cut through (docs/contact.md)."""
     contact = spec.contact
     d_min = float(model.diameter.min())
     mass = simulated_model(spec, model).mass
     m_eff = float(mass.min()) / 2.0
     law = spec_bundle_law(spec)
+    rigid = units.to_micro(contact.normal_stiffness_N_m, "N_m")
     if contact.normal_model == "hooke":
-        normal = units.to_micro(contact.normal_stiffness_N_m, "N_m")
-        stiffness = normal
-    else:
-        if law is None:
-            normal = units.to_micro(contact.contact_modulus_GPa, "GPa")
-            overlap = HERTZ_REFERENCE_OVERLAP * d_min
-        else:  # the bundle's E*, stiffest at the top of the law's window
-            normal = 2.0 * law.effective_modulus(spec.discretisation.bead_spacing_ratio)
-            overlap = law.overlap_at(FIT_WINDOW_KPA[1]) * d_min
-        e_star = normal / 2.0  # two equal bodies, Poisson ratio neglected
-        r_star = d_min / 4.0
-        stiffness = 2.0 * e_star * np.sqrt(r_star * overlap)
-    damping = 2.0 * contact.damping_ratio * np.sqrt(stiffness / m_eff)
+        return _law("hooke", rigid, rigid, m_eff, spec)
+    if law is None:
+        normal = units.to_micro(contact.contact_modulus_GPa, "GPa")
+        overlap = HERTZ_REFERENCE_OVERLAP * d_min
+    else:  # the bundle's E*, stiffest at the top of the law's window, between fibre beads
+        normal = 2.0 * law.effective_modulus(spec.discretisation.bead_spacing_ratio)
+        d_min = float(model.diameter[model.role_mask("fibre")].min())
+        overlap = law.overlap_at(FIT_WINDOW_KPA[1]) * d_min
+    e_star = normal / 2.0  # two equal bodies, Poisson ratio neglected
+    stiffness = 2.0 * e_star * np.sqrt(d_min / 4.0 * overlap)
+    hertz = _law("hertz", normal, stiffness, m_eff, spec)
+    if law is None or not np.any(model.role_mask("stitch")):
+        return hertz
+    return replace(hertz, stitch=_law("hooke", rigid, rigid, m_eff, spec))
+
+
+def _law(model: str, normal: float, stiffness: float, m_eff: float, spec: FabricSpec):
+    """A :class:`ContactLaw` of normal parameter ``normal`` and reference ``stiffness``
+    (nN/um), damped at ``contact.damping_ratio`` for an effective mass ``m_eff`` (pg)."""
+    contact = spec.contact
     return ContactLaw(
-        model="hooke" if contact.normal_model == "hooke" else "hertz",
+        model=model,
         normal=float(normal),
         stiffness=float(stiffness),
-        damping=float(damping),
+        damping=float(2.0 * contact.damping_ratio * np.sqrt(stiffness / m_eff)),
         tangential=float(contact.tangential_stiffness_ratio * stiffness),
         friction=float(contact.friction),
     )
@@ -199,8 +213,9 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
             limits[key] = min(limits.get(key, limit), limit)
             bending[t] = max(bending[t], 2.0 * k_zigzag)
     law = contact_law(spec, model)
-    limits["contact"] = float(np.sqrt(float(mass.min()) / law.stiffness))
-    contacts = COORDINATION * (law.stiffness + law.tangential)
+    stiffest = law if law.stitch is None else law.stitch
+    limits["contact"] = float(np.sqrt(float(mass.min()) / stiffest.stiffness))
+    contacts = COORDINATION * (stiffest.stiffness + stiffest.tangential)
     bond_k = np.array([2.0 * t.k for t in simulated.bond_types])
     for index, atom_type in enumerate(simulated.atom_types):
         beads = simulated.type_id == index
@@ -260,8 +275,12 @@ def guards(spec: FabricSpec, model: Model, dt: float) -> Guards:
     diameter = float(model.diameter.min())
     floor_speed = GUARD_KINETIC_FLOOR_STEP_MOVE * diameter / dt
     law = contact_law(spec, model)
-    hertz = None  # F = 4/3 E* sqrt(R*) delta^1.5, E* = E / 2, R* = d / 4 (two smallest beads)
-    if law.model == "hertz":
+    # F = 4/3 E* sqrt(R*) delta^1.5, E* = E / 2, R* = d / 4 (two smallest beads); with rigid
+    # stitch contacts the largest pair force is read with their hooke stiffness.
+    hertz = None
+    if law.stitch is not None:
+        law = law.stitch
+    elif law.model == "hertz":
         hertz = 4.0 / 3.0 * law.normal / 2.0 * float(np.sqrt(diameter / 4.0))
     return Guards(
         every=spec.numerics.guard_every,

@@ -8,17 +8,25 @@ The law is the aligned fibre bed of Gutowski, Morigaki and Cai (J. Compos. Mater
 ``E`` the filaments' axial modulus, ``beta`` the span / amplitude ratio of their waviness, ``V0``
 the Vf at which the bed starts to carry load and ``Va`` the largest Vf (packing limit).
 
-Mapping onto the chains (docs/contact.md): two bundle chains pressed together to an overlap
-``delta`` compress each other's filaments across the contact as a bed is compressed through its
-thickness, ``V = V_h / (1 - delta / D)`` (a bed's Vf goes as one over its thickness), and the
-contact carries the bed's pressure over its projected area ``D s`` (chain diameter ``D``, bead
-spacing ``s``). A regular stack of such chains at pitch ``h = D - delta`` is then the bed
-``P(V_h D / h)``. LAMMPS's granular pair styles carry Coulomb friction on their own normal force
-and offer two normal laws, linear (hooke) and ``delta^3/2`` (Hertz): the bed law is mapped onto a
-Hertz contact ``P = c (delta / D)^(3/2)`` whose two constants, the onset ``V_h`` (the bundle's
-free internal Vf, so ``D = D_solid / sqrt(V_h)``) and ``c``, are fitted to the bed law by least
-squares in ``log P`` over :data:`FIT_WINDOW_KPA`. The fit error over the window is part of the
-result (:attr:`BundleLaw.max_error`): the Hertz exponent cannot follow the bed law's stiffening
+Mapping onto the chains (docs/contact.md): two bundle chains of contact diameter ``D`` pressed
+together to an axis distance ``h`` compress each other's filaments across the contact as a bed
+is compressed through its thickness: the internal Vf is ``V = V_h D / h`` (a bed's Vf goes as
+one over its thickness), and the pair carries the bed's pressure over its projected width ``D``.
+A regular stack of such chains at pitch ``h`` (``D`` apart across) is the bed ``P(V_h D / h)``.
+LAMMPS's granular pair styles carry Coulomb friction on their own normal force and offer linear
+(hooke) and Hertz normal laws between beads; the bed law is mapped onto the Hertz bead contact
+``F = 4/3 E* sqrt(D / 4) delta^(3/2)``. Beads of two chains meet at every axial offset, so the
+chains' law is the bead law averaged over the offset ``xi`` of the partner beads (spacing
+``s``): per unit length and width the stack pressure is
+
+    P(h) = (1 / (D s^2)) int F(D - r) h / r dxi,   r = sqrt(h^2 + xi^2),
+         = 2/3 E* (D / s)^2 I(1 - h / D),   I(x) = int (1 - rho)_+^(3/2) (1 - x) / rho dzeta,
+
+``rho = sqrt((1 - x)^2 + zeta^2)``, which starts as ``I = 3 pi sqrt(2) / 8 x^2``. Its two
+constants, the onset ``V_h`` (the bundle's free internal Vf, so ``D = D_solid / sqrt(V_h)``)
+and ``c = 2/3 E* (D / s)^2``, are fitted to the bed law by least squares in ``log P`` over
+:data:`FIT_WINDOW_KPA`. The fit error over the window is part of the result
+(:attr:`BundleLaw.max_error`): no fixed-exponent contact follows the bed law's stiffening
 towards ``Va``.
 """
 
@@ -31,7 +39,15 @@ import numpy as np
 
 from .. import units
 
-__all__ = ["FIT_WINDOW_KPA", "BundleLaw", "FibreBed", "bundle_law", "chain_fill", "spec_bundle_law"]
+__all__ = [
+    "FIT_WINDOW_KPA",
+    "BundleLaw",
+    "FibreBed",
+    "bundle_law",
+    "chain_fill",
+    "offset_average",
+    "spec_bundle_law",
+]
 
 #: Pressures (kPa) over which the Hertz contact is fitted to the bed law: the validation's
 #: stack range, which spans the compaction test's 1 to 18 kPa.
@@ -76,15 +92,37 @@ class FibreBed:
         return 0.5 * (low + high)
 
 
+def offset_average(overlap):
+    """I(x) of the offset-averaged Hertz bead contact (dimensionless, array ``x = 1 - h/D`` in
+    [0, 1)), by 64-point Gauss-Legendre quadrature over the contact's axial extent."""
+    x = np.clip(np.asarray(overlap, dtype=float), 0.0, 1.0 - 1e-12)
+    h = 1.0 - x
+    half = np.sqrt(np.maximum(1.0 - h**2, 0.0))
+    nodes, weights = np.polynomial.legendre.leggauss(64)
+    zeta = half[..., None] * nodes
+    rho = np.sqrt(h[..., None] ** 2 + zeta**2)
+    integrand = np.maximum(1.0 - rho, 0.0) ** 1.5 * h[..., None] / rho
+    return half * np.sum(weights * integrand, axis=-1)
+
+
+#: Tabulated I(x) on a log grid, for the fit and its inverse.
+_X_TABLE = np.geomspace(1e-6, 0.95, 4000)
+_LOG_I_TABLE = np.log(offset_average(_X_TABLE))
+
+
+def _log_i(overlap: np.ndarray) -> np.ndarray:
+    return np.interp(np.log(overlap), np.log(_X_TABLE), _LOG_I_TABLE)
+
+
 @dataclass(frozen=True)
 class BundleLaw:
-    """The bed law mapped onto a Hertz contact between bundle chains.
+    """The bed law mapped onto the offset-averaged Hertz contact between bundle chains.
 
     Attributes:
         bed: the fibre bed law.
         onset_fvf: V_h, the bundle's internal Vf at first contact (the chain's fill).
-        coefficient: c (kPa) of the stack pressure ``c (delta / D)^(3/2)``.
-        max_error: largest |P_hertz / P_bed - 1| over :data:`FIT_WINDOW_KPA`.
+        coefficient: c (kPa) of the stack pressure ``c I(1 - h / D)``.
+        max_error: largest |P_chains / P_bed - 1| over :data:`FIT_WINDOW_KPA`.
     """
 
     bed: FibreBed
@@ -93,19 +131,19 @@ class BundleLaw:
     max_error: float
 
     def stack_pressure(self, pitch_ratio):
-        """Pressure (kPa) of the Hertz stack at pitch ``h / D`` (array, <= 1)."""
+        """Pressure (kPa) of the stack at pitch ``h / D`` (array)."""
         overlap = np.maximum(1.0 - np.asarray(pitch_ratio, dtype=float), 0.0)
-        return self.coefficient * overlap**1.5
+        return self.coefficient * offset_average(overlap)
 
     def effective_modulus(self, spacing_ratio: float) -> float:
-        """E* (kPa) of the Hertz contact ``F = 4/3 E* sqrt(R* delta) delta`` between two beads of
-        diameter D at spacing ``s = spacing_ratio D``: with R* = D / 4 and F = P D s, E* = 3/2 c
-        s / D."""
-        return 1.5 * self.coefficient * spacing_ratio
+        """E* (kPa) of the bead contact ``F = 4/3 E* sqrt(R* delta) delta`` (R* = D / 4) at bead
+        spacing ``s = spacing_ratio D``: E* = 3/2 c (s / D)^2."""
+        return 1.5 * self.coefficient * spacing_ratio**2
 
     def overlap_at(self, pressure: float) -> float:
-        """Overlap delta / D of the Hertz stack at ``pressure`` (kPa)."""
-        return float((pressure / self.coefficient) ** (2.0 / 3.0))
+        """Overlap ``1 - h / D`` of the stack at ``pressure`` (kPa)."""
+        target = np.log(pressure / self.coefficient)
+        return float(np.exp(np.interp(target, _LOG_I_TABLE, np.log(_X_TABLE))))
 
 
 def spec_bundle_law(spec) -> BundleLaw | None:
@@ -130,18 +168,18 @@ def chain_fill(spec) -> float:
 
 @lru_cache(maxsize=64)
 def bundle_law(bed: FibreBed) -> BundleLaw:
-    """Fit the Hertz contact (onset V_h and coefficient c) to ``bed`` over the window.
+    """Fit the chains' contact (onset V_h and coefficient c) to ``bed`` over the window.
 
     For each trial onset on a grid below the bed's Vf at the window's low end, ``log c`` is the
-    mean of ``log P - 3/2 log(delta / D)`` with ``delta / D = 1 - V_h / V``; the onset of the
-    smallest rms error in ``log P`` wins.
+    mean of ``log P - log I(x)`` with ``x = 1 - V_h / V``; the onset of the smallest rms error
+    in ``log P`` wins.
     """
     pressure = np.geomspace(*FIT_WINDOW_KPA, _FIT_POINTS)
     fvf = bed.fvf(pressure)
     onsets = np.linspace(0.5 * bed.free_fvf, fvf[0], 2001)[:-1]
-    overlap = 1.0 - onsets[:, None] / fvf[None, :]
-    log_c = np.mean(np.log(pressure)[None, :] - 1.5 * np.log(overlap), axis=1)
-    residual = log_c[:, None] + 1.5 * np.log(overlap) - np.log(pressure)[None, :]
+    log_i = _log_i(1.0 - onsets[:, None] / fvf[None, :])
+    log_c = np.mean(np.log(pressure)[None, :] - log_i, axis=1)
+    residual = log_c[:, None] + log_i - np.log(pressure)[None, :]
     best = int(np.argmin(np.sqrt(np.mean(residual**2, axis=1))))
     error = float(np.max(np.abs(np.expm1(residual[best]))))
     return BundleLaw(bed, float(onsets[best]), float(np.exp(log_c[best])), error)

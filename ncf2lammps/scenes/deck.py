@@ -58,9 +58,12 @@ def neighbor_skin(spec: FabricSpec, model: Model) -> float:
 
 def friction_pairs(spec: FabricSpec, model: Model) -> list[tuple[int, int, float]]:
     """(fibre type, stitch type, mu) 1-based, for a fibre-stitch friction of its own
-    (``contact.fibre_stitch_friction``); empty when every pair shares ``contact.friction``."""
+    (``contact.fibre_stitch_friction``) or law of its own (the bundle law's rigid stitch
+    contacts); empty when every pair shares the contact law and ``contact.friction``."""
     mu = spec.contact.fibre_stitch_friction
     stitch = [i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch"]
+    if mu is None and spec.contact.normal_model == "bundle":
+        mu = spec.contact.friction  # the pairs of the rigid fibre-stitch law
     if mu is None or not stitch:
         return []
     fibre = [i + 1 for i, t in enumerate(model.atom_types) if t.role == "fibre"]
