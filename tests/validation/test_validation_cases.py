@@ -129,3 +129,14 @@ def test_full_case(name, tmp_path):
     result = _run_case(name, tmp_path, full=True)
     failed = [c.row() for c in result.checks if not c.passed]
     assert not failed, failed
+
+
+@pytest.mark.lammps
+def test_bundle_law(tmp_path):
+    """Case 7: the stack returns its mapped bed law within 5 % over 1-100 kPa; F = mu N within
+    1 % on a wall under the bundle law."""
+    rows = _rows(run_case("bundle", tmp_path))
+    stack = next(c for n, c in rows.items() if n.startswith("stack P at"))
+    assert abs(stack.measured / stack.expected - 1) <= 0.05, stack
+    wall = rows["wall, F/N at mu = 0.3 (10 kPa)"]
+    assert wall.measured == pytest.approx(0.3, rel=0.01)

@@ -47,7 +47,7 @@ from .common import (
 )
 from .plots import line_plot
 
-__all__ = ["roughness_estimate", "run"]
+__all__ = ["roughness_estimate", "run", "wall_friction"]
 
 CASE = "3 Coulomb sliding"
 KN = units.to_micro(1.0e5, "N_m")
@@ -69,29 +69,39 @@ def roughness_estimate(spacing: float, mu: float = MU) -> float:
     return 1.0 + (1.0 + mu**2) * spacing**2 / (12.0 * D**2)
 
 
-def _wall(workdir: Path, mu: float, full: bool) -> tuple[float, np.ndarray, np.ndarray]:
-    """Pull a chain over a flat wall; returns F/N and the (time us, F/N) record."""
-    n, spacing, speed = 30, D / 2, 1.0
-    atom, bond, density = fibre("chain", D, spacing, E_CARBON, RHO_CARBON)
+def wall_friction(
+    workdir: Path, diameter: float, load: float, overlap: float, law_of, pull: float = 2.0
+) -> tuple[float, np.ndarray, np.ndarray]:
+    """Pull a 30-bead chain (``diameter`` um, s = d/2) over a flat wall, each bead loaded with
+    ``load`` (nN) and started at the wall overlap ``overlap`` (um) the load holds; ``law_of(mass)``
+    gives the contact law. Returns F/N over the second half of a pull of ``pull`` diameters and
+    the (time us, F/N) record."""
+    n, spacing, speed = 30, diameter / 2, 1.0
+    atom, bond, density = fibre("chain", diameter, spacing, E_CARBON, RHO_CARBON)
     chains = ChainSet()
     chains.add_type(atom, bond, density)
-    chains.add_type(*fibre("tractor", D, spacing, E_CARBON, RHO_CARBON))
+    chains.add_type(*fibre("tractor", diameter, spacing, E_CARBON, RHO_CARBON))
     x = np.arange(n + 1) * spacing
-    z = np.full(n + 1, D / 2 - OVERLAP)
+    z = np.full(n + 1, diameter / 2 - overlap)
     chains.add(np.column_stack([x, np.zeros(n + 1), z]), np.r_[np.zeros(n), 1])
-    model = chains.model([-2 * D, -2 * D, -D], [(n + 1) * spacing + 6 * D, 2 * D, 3 * D])
+    d = diameter
+    model = chains.model([-2 * d, -2 * d, -d], [(n + 1) * spacing + 6 * d, 2 * d, 3 * d])
     mass = float(model.mass[0])
     dt = 0.5 * math.sqrt(mass / (2 * bond.k))
-    load = KN * OVERLAP
     chunk = 1000
-    chunks = int(2 * D / speed / dt / chunk)
+    chunks = int(pull * d / speed / dt / chunk)
     values = {"bead_load": load, "speed": speed, "chunk": chunk}
-    law = contact(KN, mass, mu)
+    law = law_of(mass)
     with lammps_case(workdir, "validation/sliding_wall.lmp.j2", model, dt, law, **values) as lmp:
         pull = record(lmp, "record", 1, chunk, chunks)[:, 0]
     ratio = pull / (n * load)
     time = (np.arange(chunks) + 0.5) * chunk * dt
     return float(ratio[chunks // 2 :].mean()), time, ratio
+
+
+def _wall(workdir: Path, mu: float) -> tuple[float, np.ndarray, np.ndarray]:
+    """Sub-case (a) under the hooke law: F/N and its record."""
+    return wall_friction(workdir, D, KN * OVERLAP, OVERLAP, lambda mass: contact(KN, mass, mu))
 
 
 def _chain_on_chain(
@@ -205,8 +215,8 @@ def _plots(
 
 def run(workdir: Path, full: bool = False) -> CaseResult:
     """Run case 3 in ``workdir``; returns its rows and plots."""
-    wall, time, wall_ratio = _wall(workdir / "wall_mu0.3", MU, full)
-    wall_zero, _, _ = _wall(workdir / "wall_mu0", 0.0, full)
+    wall, time, wall_ratio = _wall(workdir / "wall_mu0.3", MU)
+    wall_zero, _, _ = _wall(workdir / "wall_mu0", 0.0)
     checks = [
         Check(CASE, "wall, F/N at mu = 0.3", "F = mu N", MU, wall, 0.005),
         Check(CASE, "wall, |F/N| at mu = 0", "F = 0", 0.0, abs(wall_zero), 1e-3, "absolute"),
