@@ -77,7 +77,7 @@ def _check(args) -> int:
         lines.append(
             f"bundle law    Gutowski bed A_s = {bundle.bed.stiffness * 1e3:.4g} Pa, V0"
             f" {bundle.bed.free_fvf:g}, Va {bundle.bed.max_fvf:g} on Hertz: onset Vf"
-            f" {bundle.onset_fvf:.4f}, E* = {bundle.effective_modulus(spec.discretisation.bead_spacing_ratio):.4g} kPa,"
+            f" {bundle.onset_fvf:.4f}, E* = {law.normal / 2:.4g} kPa,"
             f" largest deviation {100 * bundle.max_error:.3g} % over {lo:g}-{hi:g} kPa"
         )
     lines.append("stability     sqrt(m/k) per limit (us):")

@@ -140,9 +140,10 @@ def contact_law(spec: FabricSpec, model: Model) -> ContactLaw:
     if law is None:
         normal = units.to_micro(contact.contact_modulus_GPa, "GPa")
         overlap = HERTZ_REFERENCE_OVERLAP * d_min
-    else:  # the bundle's E*, stiffest at the top of the law's window, between fibre beads
-        normal = 2.0 * law.effective_modulus(spec.discretisation.bead_spacing_ratio)
-        d_min = float(model.diameter[model.role_mask("fibre")].min())
+    else:  # the bundle's E* at the fibre beads' mean spacing, stiffest at the window's top
+        fibre = model.role_mask("fibre")
+        d_min = float(model.diameter[fibre].min())
+        normal = 2.0 * law.effective_modulus(_fibre_spacing_ratio(model))
         overlap = law.overlap_at(FIT_WINDOW_KPA[1]) * d_min
     e_star = normal / 2.0  # two equal bodies, Poisson ratio neglected
     stiffness = 2.0 * e_star * np.sqrt(d_min / 4.0 * overlap)
@@ -150,6 +151,13 @@ def contact_law(spec: FabricSpec, model: Model) -> ContactLaw:
     if law is None or not np.any(model.role_mask("stitch")):
         return hertz
     return replace(hertz, stitch=_law("hooke", rigid, rigid, m_eff, spec))
+
+
+def _fibre_spacing_ratio(model: Model) -> float:
+    """Mean bead spacing over mean diameter of the fibre chains (s / D of the bundle law)."""
+    r0 = np.array([t.r0 for t in model.bond_types])[model.bond_type]
+    fibre_bonds = np.array([t.role == "fibre" for t in model.bond_types])[model.bond_type]
+    return float(r0[fibre_bonds].mean() / model.diameter[model.role_mask("fibre")].mean())
 
 
 def _law(model: str, normal: float, stiffness: float, m_eff: float, spec: FabricSpec):
