@@ -14,7 +14,7 @@ from conftest import tiny_spec
 from ncf2lammps.analysis.study import pareto_front, relative_errors
 from ncf2lammps.io.results import read_results
 from ncf2lammps.io.spectoml import write_spec
-from ncf2lammps.orchestration.study import study, study_grid
+from ncf2lammps.orchestration.study import ensemble_spread, study, study_grid
 
 
 def test_pareto_front_keeps_points_no_faster_point_beats():
@@ -45,6 +45,26 @@ def test_grid_reference_is_every_knob_at_its_conservative_end():
         "numerics.fibre_stiffness_scaling": 1.0,
     }
     assert points[reference].spec.shear.inertial_number == 0.025
+
+
+def test_seed_points_form_an_ensemble_with_mean_and_sample_spread():
+    """Points equal but for mat.seed: mean, sample std (ddof 1), min and max per output; the
+    reference of a seed list is its first seed; failed points are left out."""
+    points, reference = study_grid(
+        tiny_spec(), [("mat.seed", [3, 1, 2]), ("compaction.inertial_number", [0.05, 0.1])]
+    )
+    assert points[reference].knobs == {"mat.seed": 3, "compaction.inertial_number": 0.05}
+    rows = [
+        {"point": p.label, **p.knobs, "status": "ok", "t": float(i)} for i, p in enumerate(points)
+    ]
+    rows[-1]["status"] = "failed: x"
+    spreads = ensemble_spread(rows, ["mat.seed", "compaction.inertial_number"], [("t", "t")])
+    by_rate = {g["knobs"]["compaction.inertial_number"]: g for g in spreads}
+    values = [r["t"] for r in rows[:-1] if r["compaction.inertial_number"] == 0.05]
+    mean, std, low, high = by_rate[0.05]["t"]
+    assert (mean, low, high) == (np.mean(values), min(values), max(values))
+    assert std == pytest.approx(np.std(values, ddof=1))
+    assert len(by_rate[0.1]["seeds"]) == 2
 
 
 def test_bad_knob_or_value_is_one_line_exit_2(tmp_path):

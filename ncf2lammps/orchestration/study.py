@@ -44,10 +44,20 @@ from .build import OutputExistsError
 from .report import write_report
 from .run import run, run_scenes, scenes_to_run
 
-__all__ = ["KNOBS", "OUTPUTS", "StudyPoint", "parse_vary", "study", "study_grid"]
+__all__ = [
+    "ENSEMBLE_KNOB",
+    "KNOBS",
+    "OUTPUTS",
+    "StudyPoint",
+    "ensemble_spread",
+    "parse_vary",
+    "study",
+    "study_grid",
+]
 
 #: Knobs a study may vary, with the end that is the reference: the most conservative numerics,
-#: or, for the model options beyond the paper (docs/fidelity.md), the paper's own model.
+#: or, for the model options beyond the paper (docs/fidelity.md), the paper's own model; "first"
+#: takes the first value listed (a seed, or a constant studied over its physical range).
 KNOBS = {
     "discretisation.chain_diameter_um": "min",
     "discretisation.bead_spacing_ratio": "min",
@@ -65,7 +75,13 @@ KNOBS = {
     "mat.initial_fvf": "max",
     "mat.waviness_amplitude_um": "min",
     "stitch.packing_fraction": "max",
+    "contact.bundle_waviness_ratio": "first",
+    "mat.seed": "first",
 }
+
+#: The knob whose points form an ensemble: points equal in every other knob are one model
+#: drawn with different random beds; study.md reports their mean and spread.
+ENSEMBLE_KNOB = "mat.seed"
 
 #: Outputs compared across points: (scene, results.h5 attribute, label).
 OUTPUTS = (
@@ -126,16 +142,41 @@ def study_grid(
         point_spec = spec.replace(**tables) if tables else spec
         check_model_size(point_spec)
         points.append(StudyPoint(f"p{index:02d}", dict(zip(names, combo, strict=True)), point_spec))
-    conservative = [
-        (min if KNOBS[knob] == "min" else max)(v for v in values if v is not None)
-        for knob, values in vary
-    ]
+    conservative = [_reference_value(KNOBS[knob], values) for knob, values in vary]
     reference = [i for i, c in enumerate(combos) if list(c) == conservative]
     if not reference:
         raise SpecError(
             "--zip", conservative, "no point has every knob at its conservative end (the reference)"
         )
     return points, reference[0]
+
+
+def _reference_value(end: str, values: list):
+    """The reference value of a knob's list: its smallest, largest or first value."""
+    given = [v for v in values if v is not None]
+    return given[0] if end == "first" else (min if end == "min" else max)(given)
+
+
+def ensemble_spread(rows: list[dict], knobs: Sequence[str], outputs) -> list[dict]:
+    """Mean and spread over :data:`ENSEMBLE_KNOB` of every group of finished points equal in
+    all other knobs: one dict per group with 2 or more seeds, holding ``knobs`` (the other
+    knobs' values), ``seeds``, and per output attribute ``(mean, sample std, min, max)``."""
+    others = [k for k in knobs if k != ENSEMBLE_KNOB]
+    groups: dict[tuple, list[dict]] = {}
+    for row in rows:
+        if row["status"].startswith("ok"):
+            groups.setdefault(tuple(row[k] for k in others), []).append(row)
+    spreads = []
+    for key, members in groups.items():
+        if len(members) < 2:
+            continue
+        stats = {}
+        for attr, _ in outputs:
+            values = np.array([m.get(attr, np.nan) for m in members], dtype=float)
+            stats[attr] = (values.mean(), values.std(ddof=1), values.min(), values.max())
+        seeds = [m[ENSEMBLE_KNOB] for m in members]
+        spreads.append({"knobs": dict(zip(others, key, strict=True)), "seeds": seeds, **stats})
+    return spreads
 
 
 def _split_tables(spec_toml: str) -> tuple[dict, dict]:
@@ -374,7 +415,33 @@ def _markdown(spec, table: _Table, rows, reference: int, scenes, tolerance: floa
         )
     else:
         lines.append(f"No point is within {tolerance:.0%} of the reference on every output.")
+    if ENSEMBLE_KNOB in knobs:
+        lines += ["", *_ensemble_lines(rows, knobs, outputs)]
     return "\n".join([*lines, "", "![error against wall time](study.png)", ""])
+
+
+def _ensemble_lines(rows, knobs, outputs) -> list[str]:
+    """study.md's seed-spread table: mean, sample standard deviation (also as a fraction of the
+    mean) and range of every output over the seeds of each group."""
+    lines = [
+        "## Spread over seeds",
+        "",
+        f"Points equal in every knob but `{ENSEMBLE_KNOB}`: mean +- sample standard deviation"
+        " (relative), [min, max].",
+        "",
+    ]
+    for group in ensemble_spread(rows, knobs, outputs):
+        named = ", ".join(f"{k}={v}" for k, v in group["knobs"].items()) or "all points"
+        lines += [f"{named}; seeds {', '.join(str(s) for s in group['seeds'])}:", ""]
+        lines += ["| output | mean | std | std / mean | min | max |", "|---|---|---|---|---|---|"]
+        for attr, label in outputs:
+            mean, std, low, high = group[attr]
+            lines.append(
+                f"| {label} | {mean:.5g} | {std:.3g} | {std / abs(mean):.1%} | {low:.5g} |"
+                f" {high:.5g} |"
+            )
+        lines.append("")
+    return lines
 
 
 def _write_tables(directory, spec, points, reference, rows, scenes, tolerance) -> list[Path]:
