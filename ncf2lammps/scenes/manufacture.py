@@ -157,7 +157,7 @@ def deck_values(run: Prepared) -> dict:
         "needle_speed": speed,
         "needle_zlo": float(model.box.lo[2]),
         "needle_zhi": float(model.box.hi[2]),
-        "needle_epsilon": law.stiffness / 2,
+        "needle_epsilon": _needle_stiffness(spec, law.stiffness) / 2,
         "needle_cutoff": float(model.diameter[fibre].max()) / 2,
         "needle_steps": math.ceil((radius - start_radius) / speed / dt) + damping_steps,
         "insertion_steps": damping_steps,
@@ -180,6 +180,14 @@ def deck_values(run: Prepared) -> dict:
         "history_every": CONTROL_EVERY * WINDOW // 2,
         "pushoff": _pushoff_values(run) if spec.mat.arrangement == "random" else None,
     }
+
+
+def _needle_stiffness(spec: FabricSpec, contact_stiffness: float) -> float:
+    """Stiffness (nN/um) of the needle walls: the contact's, or on a random bed (chains anywhere
+    on the needle axes) the rigid ``contact.normal_stiffness_N_m``."""
+    if spec.mat.arrangement == "random":
+        return units.to_micro(spec.contact.normal_stiffness_N_m, "N_m")
+    return contact_stiffness
 
 
 def _pushoff_values(run: Prepared) -> dict:
