@@ -191,7 +191,8 @@ def _needle_stiffness(spec: FabricSpec, contact_stiffness: float) -> float:
 
 
 def _pushoff_values(run: Prepared) -> dict:
-    """The push-off stage's move limit (um per step), halt period, step cap and the contact
+    """The push-off stage's slab (the fibre beads' generated heights, um), move limit (um per
+    step), halt period, step cap and the contact
     force (nN) at :data:`PUSHOFF_FORCE_MARGIN` of the tolerated overlap ``delta``: ``k_n
     delta`` (hooke) or ``4/3 E* sqrt(R* delta) delta`` (hertz, ``E* = E / 2``, ``R*`` of two of
     the smallest chains: a larger pair at that force overlaps less)."""
@@ -202,7 +203,10 @@ def _pushoff_values(run: Prepared) -> dict:
         force = law.normal * delta
     else:
         force = 4.0 / 3.0 * (law.normal / 2.0) * np.sqrt(d_min / 4.0 * delta) * delta
+    fibre_z = model.positions[model.role_mask("fibre"), 2]
     return {
+        "zlo": float(fibre_z.min()),
+        "zhi": float(fibre_z.max()),
         "step_limit": PUSHOFF_STEP_MOVE * float(model.diameter.min()),
         "every": CONTROL_EVERY,
         "steps": run.spec.mat.max_pushoff_steps,
