@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ...spec import SpecError
-from . import capstan, crossover, hertz, packing, shear, sliding, waves
+from . import capstan, crossover, hertz, packing, shear, sliding, udbed, waves
 from .common import CaseResult, Check
 from .report import table_lines, write_markdown
 
@@ -29,6 +29,7 @@ CASES = {
     "shear": shear,
     "crossover": crossover,
     "packing": packing,
+    "udbed": udbed,
 }
 #: Cases of the fast subset (``full=False`` runs each of them in its short form).
 FAST = tuple(CASES)
