@@ -17,6 +17,13 @@ from ncf2lammps.scenes.validation import CASES
 from ncf2lammps.scenes.validation import run_case as _run_case
 from ncf2lammps.scenes.validation.crossover import analytic_fn
 from ncf2lammps.scenes.validation.sliding import roughness_estimate
+from ncf2lammps.scenes.validation.udbed import (
+    exponent,
+    largest_drop,
+    largest_jump,
+    stack_exponent,
+    steepest_rise,
+)
 
 
 def run_case(name, output):
@@ -114,6 +121,33 @@ def test_packing_limit(tmp_path):
     side, nested = run_case("packing", tmp_path).checks
     assert side.measured == pytest.approx(math.pi / (2 * math.sqrt(3)), rel=0.01)
     assert nested.measured == pytest.approx(0.9328, rel=0.01)
+
+
+@pytest.mark.lammps
+def test_random_ud_bed(tmp_path):
+    """Case 7: the bed of bundle chains with bending compacts progressively and smoothly; the
+    rigid bed of free pins locks (its pressure rises threefold within 2 % of Vf)."""
+    rows = _rows(run_case("udbed", tmp_path))
+    exponent = rows["bundle law + bending: b of Vf = a P^b, 1-18 kPa"]
+    assert exponent.expected == pytest.approx(stack_exponent())
+    assert stack_exponent() <= exponent.measured <= stack_exponent() + 0.25, exponent
+    jump = rows["bundle law + bending: largest P ratio of successive records, 1-18 kPa"]
+    assert jump.measured <= 1.25, jump
+    lock = rows["rigid, free pins: steepest threefold rise of P, ln(Vf2/Vf1)"]
+    assert 0.0 <= lock.measured <= 0.02, lock
+
+
+def test_udbed_exponent_of_a_power_law():
+    """b of Vf = a P^b read back from a sampled power law; the stack exponent from the law."""
+    pressure = np.geomspace(0.1, 50.0, 400)
+    assert exponent(0.3 * pressure**0.1, pressure) == pytest.approx(0.1, rel=1e-3)
+    assert largest_jump(pressure) == pytest.approx((50.0 / 0.1) ** (1 / 399), rel=1e-9)
+    assert 0.0 < stack_exponent() < 0.1
+    fvf = np.array([0.20, 0.21, 0.211, 0.212, 0.30])
+    assert steepest_rise(fvf, np.array([1.0, 2.0, 5.0, 21.0, 30.0])) == pytest.approx(
+        math.log(0.212 / 0.21)
+    )
+    assert largest_drop(np.array([1.0, 40.0, 20.0, 50.0])) == pytest.approx(2.0)
 
 
 def test_roughness_estimate_matches_design():

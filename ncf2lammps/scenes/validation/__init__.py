@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ...spec import SpecError
-from . import bundle, capstan, crossover, hertz, packing, shear, sliding, waves
+from . import bundle, capstan, crossover, hertz, packing, shear, sliding, udbed, waves
 from .common import CaseResult, Check
 from .report import table_lines, write_markdown
 
@@ -30,6 +30,7 @@ CASES = {
     "crossover": crossover,
     "packing": packing,
     "bundle": bundle,
+    "udbed": udbed,
 }
 #: Cases of the fast subset (``full=False`` runs each of them in its short form).
 FAST = tuple(CASES)

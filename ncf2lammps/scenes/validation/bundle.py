@@ -152,7 +152,7 @@ def run(workdir: Path, full: bool = False) -> CaseResult:
         "pressure (kPa)",
         "Case 7a: stack of bundle chains, beta 350",
         styles=["o", "-", "--"],
-        logy=True,
+        log_y=True,
     )
     note = (
         f"Mapped law: onset V_h = {law.onset_fvf:.4f}, c = {law.coefficient:.4g} kPa, largest"

@@ -18,18 +18,18 @@ def line_plot(
     ylabel: str,
     title: str,
     styles: Sequence[str] | None = None,
-    logy: bool = False,
+    log_y: bool = False,
 ) -> Path:
     """Write one axes of ``(x, y, label)`` curves to ``path`` (PNG); returns ``path``.
 
-    ``styles`` are matplotlib format strings, one per curve (default: lines); ``logy`` draws y
-    on a log scale.
+    ``styles`` are matplotlib format strings, one per curve (default: lines); ``log_y`` draws
+    the y axis logarithmic.
     """
     fig = Figure(figsize=(6.0, 4.0), dpi=110)
     ax = fig.subplots()
     for i, (x, y, label) in enumerate(curves):
         ax.plot(x, y, styles[i] if styles else "-", label=label)
-    if logy:
+    if log_y:
         ax.set_yscale("log")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
