@@ -147,3 +147,23 @@ def test_mat_only_compacts_without_manufacture(tmp_path):
     results = read_results(run(spec, tmp_path / "run"))
     assert "manufacture" not in results and "shear" in results
     assert results["compaction"]["attrs"]["thickness_at_1kPa_mm"] > 0.3
+
+
+def test_stiffening_exponent_of_a_power_law_curve():
+    """A curve with Vf = a P^b exactly (gap = A / Vf) returns b = ln(t1 / t18) / ln 18 to 1e-6."""
+    b, a, per_area = 0.15, 0.25, 300.0
+    pressure = np.geomspace(0.1, 100.0, 4000)
+    gap = per_area / (a * pressure**b)
+    zeros = np.zeros(len(gap))
+    curve = CompactionCurve(
+        gap,
+        pressure,
+        per_area,
+        force_top=zeros,
+        force_bottom=zeros,
+        kinetic=zeros,
+        potential=zeros,
+        reference_pressure=1.0,
+        window=1,
+    ).compute()
+    assert curve.stiffening_exponent(1.0, 18.0) == pytest.approx(b, rel=1e-6)

@@ -48,7 +48,7 @@ class CompactionCurve:
     ``max_kinetic_ratio`` (largest kinetic energy / W once loaded); ``plate_force_imbalance``
     (travel-weighted ``|F_top - F_bottom| / F`` once loaded: 0 for quasi-static plates);
     ``energy_balance_residual`` (:func:`~ncf2lammps.analysis.energy.energy_balance_residual`);
-    :meth:`thickness_at`.
+    :meth:`thickness_at`, :meth:`stiffening_exponent`.
     """
 
     def __init__(
@@ -98,6 +98,11 @@ class CompactionCurve:
             self.work, self.kinetic, self.potential
         )
         return self
+
+    def stiffening_exponent(self, low: float, high: float) -> float:
+        """Exponent b of ``Vf = a P^b`` between the pressures ``low`` and ``high`` (kPa):
+        ``ln(t_low / t_high) / ln(high / low)`` from :meth:`thickness_at`; NaN if either is."""
+        return math.log(self.thickness_at(low) / self.thickness_at(high)) / math.log(high / low)
 
     def thickness_at(self, pressure: float) -> float:
         """Gap (mm) where the smoothed pressure first reaches ``pressure`` (kPa); NaN if never."""

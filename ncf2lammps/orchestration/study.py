@@ -89,6 +89,7 @@ OUTPUTS = (
     ("manufacture", "thickness_mm", "thickness after manufacture (mm)"),
     ("compaction", "thickness_at_1kPa_mm", "t at 1 kPa (mm)"),
     ("compaction", "thickness_at_18kPa_mm", "t at 18 kPa (mm)"),
+    ("compaction", "stiffening_exponent", "b of Vf = a P^b, 1-18 kPa"),
     ("shear", "force_at_45deg_N_per_m", "F_N at 45 deg (N/m)"),
 )
 

@@ -122,6 +122,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         "thickness_at_1kPa_mm": t1,
         "thickness_at_18kPa_mm": t18,
         "fvf_at_18kPa": units.from_micro(per_area, "mm") / t18 if math.isfinite(t18) else math.nan,
+        "stiffening_exponent": curve.stiffening_exponent(*REPORT_PRESSURES),
         "max_kinetic_ratio": curve.max_kinetic_ratio,
         "kinetic_ratio_target": spec.compaction.kinetic_ratio_target,
         "plate_force_imbalance": curve.plate_force_imbalance,
