@@ -133,7 +133,6 @@ def deck_values(run: Prepared) -> dict:
     spec, model = run.spec, run.model
     settings = spec.manufacture
     dt = run.time_step.dt
-    law = run.contact
     fibre = model.role_mask("fibre")
     fibre_types = [i + 1 for i, t in enumerate(model.atom_types) if t.role == "fibre"]
     stitch_type = next(i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch")
@@ -157,7 +156,7 @@ def deck_values(run: Prepared) -> dict:
         "needle_speed": speed,
         "needle_zlo": float(model.box.lo[2]),
         "needle_zhi": float(model.box.hi[2]),
-        "needle_epsilon": _needle_stiffness(spec, law.stiffness) / 2,
+        "needle_epsilon": _needle_stiffness(run) / 2,
         "needle_cutoff": float(model.diameter[fibre].max()) / 2,
         "needle_steps": math.ceil((radius - start_radius) / speed / dt) + damping_steps,
         "insertion_steps": damping_steps,
@@ -182,12 +181,16 @@ def deck_values(run: Prepared) -> dict:
     }
 
 
-def _needle_stiffness(spec: FabricSpec, contact_stiffness: float) -> float:
-    """Stiffness (nN/um) of the needle walls: the contact's, or on a random bed (chains anywhere
-    on the needle axes) the rigid ``contact.normal_stiffness_N_m``."""
-    if spec.mat.arrangement == "random":
-        return units.to_micro(spec.contact.normal_stiffness_N_m, "N_m")
-    return contact_stiffness
+def _needle_stiffness(run: Prepared) -> float:
+    """Stiffness (nN/um) of the needle walls: the contact's; on a random bed, whose chains cross
+    the needle axes anywhere and must be pushed aside whole, at least the rigid
+    ``contact.normal_stiffness_N_m`` and the stiffest fibre bond's 2 K, so that no bond pulls a
+    bead through a needle."""
+    if run.spec.mat.arrangement != "random":
+        return run.contact.stiffness
+    fibre_bonds = [2.0 * t.k for t in run.simulated.bond_types if t.role == "fibre"]
+    rigid = units.to_micro(run.spec.contact.normal_stiffness_N_m, "N_m")
+    return max(rigid, *fibre_bonds)
 
 
 def _pushoff_values(run: Prepared) -> dict:
