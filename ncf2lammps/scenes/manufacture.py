@@ -140,6 +140,8 @@ def deck_values(run: Prepared) -> dict:
     radius = model.needle_diameter / 2
     nearest = float(min_xy_distance(model.positions[fibre], axes, model.box.lengths).min())
     start_radius = max(1e-3, min(0.5 * nearest, 0.1 * radius))
+    if spec.mat.arrangement == "random":
+        start_radius = 1e-3  # the push-off moves beads after this geometry: start as a line
     speed = units.to_micro(settings.needle_speed_m_s, "m_s")
     damping_steps = math.ceil(2 * settings.damping_time_us / dt)
     stitch_bonds = [(i + 1, t.r0) for i, t in enumerate(model.bond_types) if t.role == "stitch"]
