@@ -26,7 +26,7 @@ from ..spec import FabricSpec, SpecError, StitchSpec
 from .core import AngleType, AtomType, BondType, Box, Model
 from .parts import Part, join
 
-__all__ = ["MAX_BEADS", "build_model"]
+__all__ = ["MAX_BEADS", "angle_kinds", "build_model", "rest_angles", "rest_length_types"]
 
 
 def build_model(spec: FabricSpec) -> Model:
@@ -191,8 +191,8 @@ def _wavy_chains(beads, template: BeadChain, chain_length, name, axial) -> _PlyC
     """Wavy chains, beads (C, n, 3) each a translate of ``template`` (cell edge ``chain_length``
     um): one bond type per distinct rest length, ``K = EA / (2 r0)`` with ``EA = axial`` (nN)."""
     r0 = template.bond_length
-    types, bond_type = _rest_length_types(r0, "fibre", axial, lambda j, i: f"{name}_{j}")
-    rest_angle = _rest_angles(template.positions, chain_length)
+    types, bond_type = rest_length_types(r0, "fibre", axial, lambda j, i: f"{name}_{j}")
+    rest_angle = rest_angles(template.positions, chain_length)
     lengths = template.length_per_bead
     return _PlyChains(beads, bond_type, types, lengths, rest_angle, float(r0.sum()))
 
@@ -203,7 +203,7 @@ def _bent(part: Part, style: str, bending: float, chains: _PlyChains, name: str)
     n_chains, per_chain = chains.beads.shape[:2]
     local = np.arange(n_chains * per_chain).reshape(n_chains, per_chain)
     triples = np.stack([np.roll(local, 1, axis=1), local, np.roll(local, -1, axis=1)])
-    types, per_bead = _angle_kinds(style, bending, chains.rest_angle, chains.length_per_bead, name)
+    types, per_bead = angle_kinds(style, bending, chains.rest_angle, chains.length_per_bead, name)
     return replace(
         part,
         angles=triples.reshape(3, -1).T,
@@ -234,7 +234,7 @@ def _bed(spec: FabricSpec) -> RandomBed | None:
     return RandomBed(seed=mat.seed, spread=mat.diameter_spread)
 
 
-def _rest_angles(chain: np.ndarray, chain_length: float) -> np.ndarray:
+def rest_angles(chain: np.ndarray, chain_length: float) -> np.ndarray:
     """(n,) angle (deg) at each bead of one closed chain between its two bonds (180: straight)."""
     shift = np.array([chain_length, 0.0, 0.0])
     before = np.vstack([chain[-1:] - shift, chain[:-1]]) - chain
@@ -244,7 +244,7 @@ def _rest_angles(chain: np.ndarray, chain_length: float) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
 
 
-def _angle_kinds(style, bending, rest_angle, spacing, name):
+def angle_kinds(style, bending, rest_angle, spacing, name):
     """Angle types of one chain's beads: (types, (n,) type index of each bead).
 
     One type per distinct (rest angle, chain length per bead); ``K = EI / (2 s)`` (harmonic) or
@@ -271,7 +271,7 @@ def _distinct(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return first, inverse.ravel()
 
 
-def _rest_length_types(r0: np.ndarray, role: str, axial: float, label):
+def rest_length_types(r0: np.ndarray, role: str, axial: float, label):
     """One bond type per distinct rest length, so that every bond starts exactly at rest.
 
     ``r0``: (m,) rest lengths (um); ``K = EA / (2 r0)`` with ``EA = axial`` (nN); ``label(j, i)``
@@ -348,7 +348,7 @@ def _stitch_part(
     yarn_rho = rho * packing  # mass of the yarn per volume of its cylinder
     area = packing * np.pi * d**2 / 4.0  # fibre cross-section of the yarn
     kind = path.kind[first.segment]
-    types, bond_type = _rest_length_types(
+    types, bond_type = rest_length_types(
         first.bond_length,
         "stitch",
         modulus * area,

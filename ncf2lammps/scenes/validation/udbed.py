@@ -70,7 +70,7 @@ from ...geometry.bundle import FIT_WINDOW_KPA, FibreBed, bundle_law
 from ...geometry.chains import sample_closed_polyline
 from ...geometry.mat import Waviness
 from ...model import AtomType, Box, Model, Part, join
-from ...model.builder import _angle_kinds, _rest_angles, _rest_length_types
+from ...model.builder import angle_kinds, rest_angles, rest_length_types
 from ...numerics import ContactLaw
 from ...spec import HEXAGONAL_PACKING
 from .common import E_CARBON, MU, RHO_CARBON, CaseResult, Check, contact, lammps_case
@@ -156,7 +156,7 @@ def _bed_model(n_chains: int, bending: bool) -> tuple[Model, float]:
     n = beads.shape[1]
     # Fibre bonds softened to 2 K = EA / r0 = BOND_STIFFNESS (as numerics.fibre_stiffness_scaling)
     axial = units.to_micro(BOND_STIFFNESS, "N_m") * float(r0.mean())
-    bond_types, bond_type = _rest_length_types(r0, "fibre", axial, lambda j, i: f"chain_{j}")
+    bond_types, bond_type = rest_length_types(r0, "fibre", axial, lambda j, i: f"chain_{j}")
     local = np.arange(n_chains * n).reshape(n_chains, n)
     density = RHO_CARBON * area * per_bead / (np.pi * CHAIN_D**3 / 6)
     part = Part(
@@ -173,7 +173,7 @@ def _bed_model(n_chains: int, bending: bool) -> tuple[Model, float]:
     ei = 0.0
     if bending:
         ei = area * E_CARBON * FILAMENT_D**2 / 16.0  # N_f E pi d_f^4 / 64
-        types, per = _angle_kinds("harmonic", ei, _rest_angles(template, length), per_bead, "chain")
+        types, per = angle_kinds("harmonic", ei, rest_angles(template, length), per_bead, "chain")
         triples = np.stack([np.roll(local, 1, axis=1), local, np.roll(local, -1, axis=1)])
         part = Part(
             **{
