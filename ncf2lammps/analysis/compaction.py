@@ -9,7 +9,13 @@ import numpy as np
 from .. import units
 from .energy import energy_balance_residual
 
-__all__ = ["EXPERIMENT", "PAPER_MODEL_THICKNESS_1KPA_MM", "CompactionCurve", "smooth"]
+__all__ = [
+    "EXPERIMENT",
+    "PAPER_MODEL_THICKNESS_1KPA_MM",
+    "CompactionCurve",
+    "first_crossing",
+    "smooth",
+]
 
 #: Experiment of the paper (rheometer, one layer, 10 um/s): (thickness mm, pressure kPa).
 EXPERIMENT = ((0.68, 1.0), (0.44, 18.0))
@@ -25,6 +31,19 @@ def smooth(values: np.ndarray, window: int) -> np.ndarray:
     total = np.convolve(values, kernel, mode="same")
     count = np.convolve(np.ones_like(values), kernel, mode="same")
     return total / count
+
+
+def first_crossing(x: np.ndarray, pressure: np.ndarray, level: float) -> float:
+    """``x`` (N,) where the record ``pressure`` (N,) first reaches ``level``, linear between
+    the two records around it (``x[0]`` if the first already does); NaN if it never does."""
+    above = np.flatnonzero(pressure >= level)
+    if len(above) == 0:
+        return float("nan")
+    i = int(above[0])
+    if i == 0:
+        return float(x[0])
+    weight = (level - pressure[i - 1]) / (pressure[i] - pressure[i - 1])
+    return float(x[i - 1] + weight * (x[i] - x[i - 1]))
 
 
 class CompactionCurve:
@@ -106,12 +125,4 @@ class CompactionCurve:
 
     def thickness_at(self, pressure: float) -> float:
         """Gap (mm) where the smoothed pressure first reaches ``pressure`` (kPa); NaN if never."""
-        above = np.flatnonzero(self.smoothed >= pressure)
-        if len(above) == 0:
-            return float("nan")
-        i = int(above[0])
-        if i == 0:
-            return float(self.gap_mm[0])
-        p0, p1 = self.smoothed[i - 1], self.smoothed[i]
-        weight = (pressure - p0) / (p1 - p0)
-        return float(self.gap_mm[i - 1] + weight * (self.gap_mm[i] - self.gap_mm[i - 1]))
+        return first_crossing(self.gap_mm, self.smoothed, pressure)

@@ -66,6 +66,7 @@ from pathlib import Path
 import numpy as np
 
 from ... import units
+from ...analysis.compaction import first_crossing
 from ...geometry.bundle import FIT_WINDOW_KPA, FibreBed, bundle_law
 from ...geometry.chains import sample_closed_polyline
 from ...geometry.mat import Waviness
@@ -255,14 +256,8 @@ def _compact(
 def _crossing(fvf: np.ndarray, pressure: np.ndarray, level: float) -> float:
     """Fibre Vf where the record first reaches ``level`` kPa (linear between records); the last
     Vf if it never does."""
-    above = np.flatnonzero(pressure >= level)
-    if not len(above):
-        return float(fvf[-1])
-    i = int(above[0])
-    if i == 0:
-        return float(fvf[0])
-    t = (level - pressure[i - 1]) / (pressure[i] - pressure[i - 1])
-    return float(fvf[i - 1] + t * (fvf[i] - fvf[i - 1]))
+    crossing = first_crossing(fvf, pressure, level)
+    return float(fvf[-1]) if math.isnan(crossing) else crossing
 
 
 def exponent(fvf: np.ndarray, pressure: np.ndarray, window=WINDOW_KPA) -> float:
