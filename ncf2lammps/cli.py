@@ -15,6 +15,7 @@ import sys
 from . import __version__, units
 from .engine import EngineError
 from .geometry.bundle import FIT_WINDOW_KPA, spec_bundle_law
+from .geometry.direction import lattice_direction
 from .io.results import ResultsFileError
 from .numerics import STABLE_FRACTION, prepare
 from .orchestration.build import OutputExistsError, build, check_ranks
@@ -41,9 +42,17 @@ def _check(args) -> int:
         f"cell          {lx / 1e3:.4g} x {ly / 1e3:.4g} mm (x machine/0 deg, y 90 deg), periodic in x, y",
         f"beads         {model.n_atoms} atoms, {model.n_bonds} bonds",
     ]
+    plies = iter(spec.plies)
     for t in model.atom_types:
         chains, beads = model.count(t.name)
         lines.append(f"  {t.name:<14}{chains:>6} chains {beads:>9} beads  d = {t.diameter:.4g} um")
+        if t.role == "fibre":
+            direction = lattice_direction(t.lattice, (lx, ly))
+            lines.append(
+                f"    angle {next(plies).angle_deg:g} deg requested, {t.angle_deg:.4f} deg"
+                f" realised: lattice {direction.lattice}, chain {direction.chain_length / 1e3:.4g}"
+                f" mm, strip {direction.period / 1e3:.4g} mm"
+            )
     fibre_aw = model.areal_weight("fibre")
     lines += [
         f"areal weight  fibre {fibre_aw:.4g} g/m2, stitch {model.areal_weight('stitch'):.4g} g/m2",

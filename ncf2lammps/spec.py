@@ -117,9 +117,17 @@ def _f(
 
 @dataclass(frozen=True)
 class PlySpec:
-    """One unidirectional ply of straight fibre chains (0 deg along x, 90 deg along y)."""
+    """One unidirectional ply of fibre chains at an angle from x (0 deg along x, 90 deg along y)."""
 
-    angle_deg: float = _f(0.0, choices=(0.0, 90.0), unit="deg", source="0/90 biaxial NCF")
+    angle_deg: float = _f(
+        0.0,
+        -90.0,
+        90.0,
+        lo_open=True,
+        unit="deg",
+        source="fibre angle from the machine direction x; realised as the nearest closing"
+        " direction within mat.angle_tolerance_deg (docs/manufacture.md)",
+    )
     areal_weight_g_m2: float = _f(
         150.0,
         1.0,
@@ -268,6 +276,14 @@ class MatSpec:
     )
     max_pushoff_steps: int = _f(
         200_000, 1, 10**10, unit="steps", source="safety cap of the push-off (random only)"
+    )
+    angle_tolerance_deg: float = _f(
+        0.25,
+        1e-3,
+        5.0,
+        unit="deg",
+        source="largest |realised - requested| ply angle; model choice, below the ~1 deg"
+        " scatter of fibre angles in NCF plies",
     )
 
 

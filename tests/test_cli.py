@@ -50,7 +50,7 @@ def test_check_piped_into_a_reader_that_stops_leaves_no_traceback():
 @pytest.mark.parametrize(
     ("text", "field"),
     [
-        ("[[ply]]\nangle_deg = 30\n[cell]\nlength_mm = 2\nwidth_mm = 2\n", "ply[0].angle_deg"),
+        ("[[ply]]\nangle_deg = 120\n[cell]\nlength_mm = 2\nwidth_mm = 2\n", "ply[0].angle_deg"),
         (
             "[[ply]]\n[cell]\nlength_mm = 2\nwidth_mm = 2\n[mat]\ninitial_fvf = 0.9\n",
             "mat.initial_fvf",

@@ -35,7 +35,7 @@ def test_cases_load_and_resolve_round_trip(case, tmp_path):
         ({"mat": {"fvf": 0.3}}, "mat.fvf", "unknown key"),
         ({"stitch": {"pattern": "custom"}}, "stitch.lapping", "must be given"),
         ({"stitch": {"pattern": "custom", "lapping": "1-3/2-1"}}, "stitch.lapping", "one needle"),
-        ({"ply": [{"angle_deg": 45.0}]}, "ply[0].angle_deg", "0 or 90"),
+        ({"ply": [{"angle_deg": -90.0}]}, "ply[0].angle_deg", "(-90, 90]"),
         ({"ply": []}, "ply", "1 to 8"),
         ({"numerics": {"thermo_every": 10.5}}, "numerics.thermo_every", "whole number"),
         ({"cell": {"length_mm": 5.0}}, "cell.length_mm", "multiple of the repeat"),

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..spec import SpecError
 from .chains import BeadChain, sample_closed_polyline
+from .direction import PlyDirection
 
 __all__ = [
     "PLACEMENT_CLEARANCE",
@@ -63,6 +64,7 @@ class Waviness:
     out_of_plane: bool
     phase_spread: float
     seed: int
+    off_axis: bool = False
 
     def vertices(self, chain_length: float) -> np.ndarray:
         """(V, 3) polyline corners (along, displacement, 0) of one chain of phase 0."""
@@ -85,9 +87,11 @@ class Waviness:
 
     def relative_displacement(self, across_plies: bool) -> float:
         """Bound on the difference of two chains' displacements at the same place (um): chains
-        of one ply differ by their phases (in phase: 0), chains of two plies by anything."""
+        of one ply differ by their phases (in phase: 0), chains of two plies by anything, and so
+        do neighbours of an off-axis ply (``off_axis``: its chain's periodic image across the
+        strip is shifted along, out of phase)."""
         chord_error = self.amplitude * (1.0 - np.cos(np.pi / VERTICES_PER_WAVE))
-        if across_plies:
+        if across_plies or self.off_axis:
             return 2.0 * (self.amplitude + chord_error)
         if self.phase_spread == 0.0:
             return 0.0
@@ -183,7 +187,7 @@ def ply_layout(
     row_pitch = across_pitch = d
     if waviness is not None and bed is None:
         row_pitch, across_pitch = _wavy_pitches(waviness, d, chain_length, spacing_ratio)
-        if thickness < row_pitch:
+        if waviness.out_of_plane and thickness < row_pitch:
             raise SpecError(
                 "mat.waviness_amplitude_um",
                 waviness.amplitude,
@@ -323,29 +327,32 @@ def _random_axes(
     return axes
 
 
-def ply_chains(layout: PlyLayout, along_x: bool, width: float) -> np.ndarray:
-    """Bead centres of a ply, shape (n_chains, beads_per_chain, 3), chain by chain.
-
-    Chains run along x (``along_x``) or y; within a row they are evenly spaced across ``width``,
-    odd rows shifted by half a pitch (a random bed: at its axes). Beads of chain ``c`` start at
-    ``(c mod 2) s / 2`` so that neighbouring chains do not put beads side by side.
-    """
+def _strip_coordinates(layout: PlyLayout, period: float) -> tuple[np.ndarray, np.ndarray]:
+    """(n_chains,) position across the strip of width ``period`` and height (um) of each chain
+    axis: evenly spaced within a row, odd rows shifted by half a pitch; a random bed's axes."""
+    if layout.axes is not None:
+        return layout.axes[:, 0], layout.axes[:, 1]
     row_of_chain = np.repeat(np.arange(len(layout.rows)), layout.rows)
-    if layout.axes is None:
-        first_in_row = np.concatenate([[0], np.cumsum(layout.rows)[:-1]])
-        slot = np.arange(layout.n_chains) - first_in_row[row_of_chain]
-        pitch = width / layout.rows[row_of_chain]
-        across = (slot + 0.5 + 0.5 * (row_of_chain % 2)) * pitch % width
-        height = layout.row_z[row_of_chain]
-    else:
-        across, height = layout.axes.T
+    first_in_row = np.concatenate([[0], np.cumsum(layout.rows)[:-1]])
+    slot = np.arange(layout.n_chains) - first_in_row[row_of_chain]
+    pitch = period / layout.rows[row_of_chain]
+    across = (slot + 0.5 + 0.5 * (row_of_chain % 2)) * pitch % period
+    return across, layout.row_z[row_of_chain]
+
+
+def ply_chains(layout: PlyLayout, direction: PlyDirection) -> np.ndarray:
+    """Bead centres of a ply, shape (n_chains, beads_per_chain, 3), chain by chain, unwrapped.
+
+    Chains run along ``direction`` (:class:`~.direction.PlyDirection`) at the strip coordinates
+    of :func:`_strip_coordinates`. Beads of chain ``c`` start at ``(c mod 2) s / 2`` so that
+    neighbouring chains do not put beads side by side.
+    """
+    across, height = _strip_coordinates(layout, direction.period)
     along = (
         np.arange(layout.beads_per_chain)[None, :] + 0.5 * (np.arange(layout.n_chains) % 2)[:, None]
     ) * layout.spacing
     positions = np.empty((layout.n_chains, layout.beads_per_chain, 3))
-    axis_along, axis_across = (0, 1) if along_x else (1, 0)
-    positions[..., axis_along] = along
-    positions[..., axis_across] = across[:, None]
+    positions[..., :2] = direction.place(along, np.broadcast_to(across[:, None], along.shape))
     positions[..., 2] = height[:, None]
     return positions
 
@@ -381,27 +388,28 @@ def _check_corners(waviness: Waviness, d: float, chain_length: float, spacing_ra
 
 
 def wavy_chains(
-    layout: PlyLayout,
-    along_x: bool,
-    width: float,
-    chain_length: float,
-    waviness: Waviness,
-    stream: int,
+    layout: PlyLayout, direction: PlyDirection, waviness: Waviness, stream: int
 ) -> tuple[np.ndarray, BeadChain]:
     """Bead centres of a wavy ply, (n_chains, beads per chain, 3), and the chain they all
     translate (its bonds, rest lengths and lengths per bead hold for every chain).
 
     Rows and positions across are those of :func:`ply_chains`; each chain is the sampled
-    polyline of :meth:`Waviness.vertices` shifted along by its phase.
+    polyline of :meth:`Waviness.vertices` over ``direction.chain_length``, shifted along by its
+    phase and displaced across (in the plane) or in z (out of the plane).
     """
+    chain_length = direction.chain_length
     template = sample_closed_polyline(
         waviness.vertices(chain_length), np.array([chain_length, 0.0, 0.0]), layout.spacing
     )
-    straight = ply_chains(PlyLayout(**{**layout.__dict__, "beads_per_chain": 1}), along_x, width)
-    axis_along, axis_across = (0, 1) if along_x else (1, 0)
+    across, height = _strip_coordinates(layout, direction.period)
     phases = waviness.phases(layout.n_chains, chain_length, stream)
-    positions = np.repeat(straight, len(template.positions), axis=1)
-    positions[..., axis_along] = template.positions[None, :, 0] + phases[:, None]
-    shift_axis = 2 if waviness.out_of_plane else axis_across
-    positions[..., shift_axis] += template.positions[None, :, 1]
+    along = template.positions[None, :, 0] + phases[:, None]
+    shape = np.broadcast_to(template.positions[None, :, 1], along.shape)
+    positions = np.empty((*along.shape, 3))
+    positions[..., :2] = direction.place(along, np.broadcast_to(across[:, None], along.shape))
+    positions[..., 2] = height[:, None]
+    if waviness.out_of_plane:
+        positions[..., 2] += shape
+    else:
+        positions[..., :2] += shape[..., None] * direction.across
     return positions, template

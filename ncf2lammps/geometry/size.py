@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 from ..spec import SpecError
 from .bundle import chain_fill
+from .direction import spec_ply_direction
 
 __all__ = ["MAX_BEADS", "ModelSize", "check_model_size", "model_size", "ply_beads", "stitch_beads"]
 
@@ -112,7 +113,8 @@ def model_size(spec) -> ModelSize:
     thickness = 0.0
     cell = f"cell {length_mm:.4g} x {width_mm:.4g} mm"
     for index, ply in enumerate(spec.plies):
-        along, across = (length, width) if ply.angle_deg == 0.0 else (width, length)
+        direction = spec_ply_direction(spec, index)
+        along, across = direction.chain_length, direction.period
         name = f"ply[{index}]"
         parts[name] = ply_beads(
             ply.areal_weight_g_m2,
@@ -123,7 +125,7 @@ def model_size(spec) -> ModelSize:
             disc.bead_spacing_ratio,
             chain_fill(spec),
             waviness,
-            mat.waviness_waves_per_cell,
+            mat.waviness_waves_per_cell * (direction.lattice[0] + abs(direction.lattice[1])),
         )
         drivers[name] = (
             f"areal_weight_g_m2 {ply.areal_weight_g_m2:g}, density_g_cm3 {ply.density_g_cm3:g},"

@@ -20,6 +20,7 @@ from ..geometry import (
     stitch_path,
 )
 from ..geometry.bundle import chain_fill
+from ..geometry.direction import PlyDirection, spec_ply_direction
 from ..geometry.mat import RandomBed, Waviness, wavy_chains
 from ..geometry.size import MAX_BEADS, check_model_size
 from ..spec import FabricSpec, SpecError, StitchSpec
@@ -94,17 +95,16 @@ def _ply_thickness(spec: FabricSpec, index: int) -> float:
 def _ply_part(spec: FabricSpec, index: int, cell: tuple[float, float], z_bottom: float) -> Part:
     """The chains of ply ``index`` from height ``z_bottom`` (um) up, one type for its beads."""
     ply = spec.plies[index]
-    along_x = ply.angle_deg == 0.0
+    direction = spec_ply_direction(spec, index)
     rho = units.to_micro(ply.density_g_cm3, "g_cm3")
     modulus = units.to_micro(ply.E_GPa, "GPa")
-    chain_length, across = cell if along_x else cell[::-1]
     fill = chain_fill(spec)
-    waviness = _waviness(spec)
+    waviness = _waviness(spec, direction)
     layout = ply_layout(
         units.to_micro(ply.areal_weight_g_m2, "g_m2"),
         rho,
-        chain_length,
-        across,
+        direction.chain_length,
+        direction.period,
         z_bottom,
         spec.mat.initial_fvf,
         spec.discretisation.chain_diameter_um,
@@ -119,11 +119,13 @@ def _ply_part(spec: FabricSpec, index: int, cell: tuple[float, float], z_bottom:
     area = fill * np.pi * d**2 / 4.0  # fibre cross-section of a chain of diameter d
     name = f"ply{index}_{ply.angle_deg:g}deg"
     if waviness is None:
-        beads = ply_chains(layout, along_x, across)
-        chains = _straight_chains(beads, layout.spacing, chain_length, name, modulus * area)
+        beads = ply_chains(layout, direction)
+        chains = _straight_chains(
+            beads, layout.spacing, direction.chain_length, name, modulus * area
+        )
     else:
-        beads, template = wavy_chains(layout, along_x, across, chain_length, waviness, index)
-        chains = _wavy_chains(beads, template, chain_length, name, modulus * area)
+        beads, template = wavy_chains(layout, direction, waviness, index)
+        chains = _wavy_chains(beads, template, direction.chain_length, name, modulus * area)
     n_chains, per_chain = chains.beads.shape[:2]
     d_chain = np.full(n_chains, d) if layout.diameters is None else layout.diameters
     local = np.arange(n_chains * per_chain).reshape(n_chains, per_chain)
@@ -140,7 +142,16 @@ def _ply_part(spec: FabricSpec, index: int, cell: tuple[float, float], z_bottom:
         bonds=np.stack([local, np.roll(local, -1, axis=1)], axis=-1).reshape(-1, 2),
         bond_type=np.tile(chains.bond_type, n_chains),
         atom_types=(
-            AtomType(name, "fibre", float(d_chain.max()), rho, modulus, ply.angle_deg, fill),
+            AtomType(
+                name,
+                "fibre",
+                float(d_chain.max()),
+                rho,
+                modulus,
+                direction.angle_deg,
+                fill,
+                direction.lattice,
+            ),
         ),
         bond_types=chains.bond_types,
         fibre_volume=area * chains.fibre_length * float(np.sum((d_chain / d) ** 2)),
@@ -212,17 +223,21 @@ def _bent(part: Part, style: str, bending: float, chains: _PlyChains, name: str)
     )
 
 
-def _waviness(spec: FabricSpec) -> Waviness | None:
-    """The mat's waviness, None for the paper's straight chains."""
+def _waviness(spec: FabricSpec, direction: PlyDirection) -> Waviness | None:
+    """The waviness of a ply along ``direction``, None for the paper's straight chains: an
+    off-axis chain of lattice vector (a, b) crosses ``a + |b|`` cell edges and carries that many
+    times ``mat.waviness_waves_per_cell`` waves."""
     mat = spec.mat
     if mat.waviness_amplitude_um == 0.0:
         return None
+    a, b = direction.lattice
     return Waviness(
         amplitude=mat.waviness_amplitude_um,
-        waves=mat.waviness_waves_per_cell,
+        waves=mat.waviness_waves_per_cell * (a + abs(b)),
         out_of_plane=mat.waviness_plane == "out-of-plane",
         phase_spread=mat.waviness_phase_spread_deg / 360.0,
         seed=mat.seed,
+        off_axis=direction.lattice not in ((1, 0), (0, 1)),
     )
 
 

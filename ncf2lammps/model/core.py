@@ -14,9 +14,10 @@ class AtomType:
     """A bead type: one per ply, one for the stitch yarn.
 
     Attributes: name; role ``"fibre"`` or ``"stitch"``; diameter (um); material density
-    (pg/um^3); axial modulus E (kPa); ``angle_deg`` of a ply's chains (0: along x, 90: along y;
-    None for the stitch); ``fill``: fibre (or yarn) volume fraction inside the chain, so that
-    its fibre cross-section is ``fill pi d^2 / 4``.
+    (pg/um^3); axial modulus E (kPa); ``angle_deg``: the realised angle from x of a ply's
+    chains (0: along x, 90: along y; None for the stitch); ``fill``: fibre (or yarn) volume
+    fraction inside the chain, so that its fibre cross-section is ``fill pi d^2 / 4``;
+    ``lattice``: the ply's chain direction ``(a Lx, b Ly)`` as ``(a, b)`` (geometry/direction.py).
     """
 
     name: str
@@ -26,6 +27,7 @@ class AtomType:
     modulus: float
     angle_deg: float | None = None
     fill: float = 1.0
+    lattice: tuple[int, int] | None = None
 
 
 @dataclass(frozen=True)

@@ -37,6 +37,7 @@ from ..analysis.geometry import max_overlap, min_xy_distance
 from ..analysis.plots import plot_histories
 from ..analysis.render3d import state_views
 from ..engine import Engine, EngineError
+from ..geometry.direction import lattice_direction
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, read_final
 from ..model import Model
@@ -87,21 +88,23 @@ def _axis_offsets(model: Model) -> np.ndarray:
     """
     fibre = model.role_mask("fibre")
     d = float(model.diameter[fibre].max())
-    lengths = model.box.lengths[:2]
-    # Chain lines: 0 deg chains have a constant y, 90 deg chains a constant x.
-    angle = np.array([t.angle_deg if t.role == "fibre" else np.nan for t in model.atom_types])
+    lengths = tuple(model.box.lengths[:2])
     chain_first = np.unique(model.mol_id[fibre], return_index=True)[1]
     first_bead = np.flatnonzero(fibre)[chain_first]
-    chain_angle = angle[model.type_id[first_bead]]
-    lines_y = model.positions[first_bead[chain_angle == 0.0], 1]
-    lines_x = model.positions[first_bead[chain_angle == 90.0], 0]
     grid = np.linspace(-0.5 * d, 0.5 * d, 5)
     candidates = np.array([(ox, oy) for ox in grid for oy in grid])
     axes = model.needle_points[:, None, :] + candidates[None, :, :]  # (P, C, 2)
-    worst = np.minimum(
-        _line_clearance(axes[..., 1], lines_y, lengths[1]),
-        _line_clearance(axes[..., 0], lines_x, lengths[0]),
-    )
+    worst = np.full(axes.shape[:2], np.inf)
+    # Chain lines of a ply: a constant coordinate across its direction, periodic over its strip.
+    for index, kind in enumerate(model.atom_types):
+        if kind.role != "fibre":
+            continue
+        direction = lattice_direction(kind.lattice, lengths)
+        lines = model.positions[first_bead[model.type_id[first_bead] == index], :2]
+        clearance = _line_clearance(
+            axes @ direction.across, lines @ direction.across, direction.period
+        )
+        worst = np.minimum(worst, clearance)
     offsets = candidates[np.argmax(worst, axis=1)]
     return offsets
 

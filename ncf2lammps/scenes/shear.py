@@ -24,6 +24,7 @@ from ..analysis.energy import energy_balance_residual
 from ..analysis.plots import plot_shear
 from ..analysis.render3d import state_views
 from ..analysis.shear import ShearCurve
+from ..geometry.direction import lattice_direction
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
@@ -82,8 +83,9 @@ def shear_rate(spec: FabricSpec, model: Model) -> float:
 def _pretension_bonds(spec: FabricSpec, model: Model) -> list[tuple[int, float, float]]:
     """(bond type, K, r0) of the fibre bonds shortened to carry the pretension.
 
-    A ply's chains carry ``T = N0 w / n`` each (N0 per unit width, n chains across the cell
-    width w normal to them); a periodic straight chain of K, r0 then has ``r0' = r0 - T / 2K``.
+    A ply's chains carry ``T = N0 w / n`` each (N0 per unit width, n chains across the strip
+    of width ``w = Lx Ly / |v|`` their direction ``v`` tiles, geometry/direction.py); a periodic
+    straight chain of K, r0 then has ``r0' = r0 - T / 2K``.
     """
     n0 = units.to_micro(spec.shear.fibre_pretension_N_m, "N_m")
     if n0 == 0.0:
@@ -97,7 +99,7 @@ def _pretension_bonds(spec: FabricSpec, model: Model) -> list[tuple[int, float, 
         # The ply of the bond's beads (a wavy ply has several bond types).
         kind = model.atom_types[model.type_id[model.bonds[in_type][0, 0]]]
         chains, _ = model.count(kind.name)
-        width = ly if kind.angle_deg == 0.0 else lx
+        width = lattice_direction(kind.lattice, (lx, ly)).period
         tension = n0 * width / chains
         out.append((index + 1, bond.k, bond.r0 - tension / (2.0 * bond.k)))
     return out
