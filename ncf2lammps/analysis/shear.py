@@ -54,6 +54,18 @@ class PictureFrame:
     half_angle: float
     angles_deg: tuple[float, float]
 
+    @classmethod
+    def tilt(cls, sense: int = 1) -> PictureFrame:
+        """The 0/90 frame (the box tilts) in ``sense``."""
+        return cls("tilt", sense, math.pi / 4, (0.0, 90.0))
+
+    @classmethod
+    def stretch(cls, half_angle_deg: float, sense: int = 1) -> PictureFrame:
+        """The frame +phi0/-phi0 (deg; the box stretches) in ``sense``."""
+        return cls(
+            "stretch", sense, math.radians(half_angle_deg), (half_angle_deg, -half_angle_deg)
+        )
+
     def box(self, g, a: float, b: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(lx, ly, xy) (um), each shaped like ``g``, of a box that starts as ``a`` x ``b``."""
         g = np.asarray(g, dtype=float)
