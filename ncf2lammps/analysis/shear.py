@@ -24,10 +24,14 @@ import numpy as np
 __all__ = [
     "EXPERIMENT_FORCE_45DEG_N_PER_M",
     "PAPER_MODEL_FORCE_45DEG_N_PER_M",
+    "SENSE_GROUPS",
     "PictureFrame",
     "ShearCurve",
     "work_force",
 ]
+
+#: The results group (and scene) of each shear sense.
+SENSE_GROUPS = {"positive": "shear", "negative": "shear_negative"}
 
 #: Picture-frame experiment of the paper at 45 deg (N/m): frame side 175 mm, 100 mm/min, fibre
 #: pretension 22 N/m, mean of 6 samples; "almost 50 times" the paper model's value.

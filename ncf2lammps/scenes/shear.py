@@ -27,7 +27,7 @@ from .. import units
 from ..analysis.energy import energy_balance_residual
 from ..analysis.plots import plot_shear
 from ..analysis.render3d import state_views
-from ..analysis.shear import PictureFrame, ShearCurve
+from ..analysis.shear import SENSE_GROUPS, PictureFrame, ShearCurve
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
@@ -39,7 +39,6 @@ __all__ = [
     "NEGATIVE",
     "REFERENCE_PRESSURE_KPA",
     "SCENE",
-    "SENSE_SCENES",
     "picture_frame",
     "shear_rate",
 ]
@@ -59,8 +58,7 @@ DEFORM_EVERY = 10
 LOADED_FRACTION = 0.25
 
 
-#: The scene of each sense (its results group and file prefix).
-SENSE_SCENES = {"positive": "shear", "negative": "shear_negative"}
+#: The sign s of each sense in the recipe (PictureFrame.sense).
 SIGNS = {"positive": 1, "negative": -1}
 
 
@@ -166,7 +164,7 @@ def deck_values(run: Prepared, sense: str) -> dict:
 def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
     """(attrs, datasets) of the ``sense``'s group from its scene's files in ``directory``."""
     spec, model = run.spec, run.model
-    name, frame = SENSE_SCENES[sense], picture_frame(spec, model, sense)
+    name, frame = SENSE_GROUPS[sense], picture_frame(spec, model, sense)
     stress = read_ave_time(directory / f"{name}.history.txt")
     box = read_ave_time(directory / f"{name}.box.txt")
     curve = ShearCurve(
@@ -214,9 +212,9 @@ def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
 def figures(results: dict, directory: Path, sense: str) -> list[Path]:
     """F_N against angle (virial, work, the paper's values; every sense run, drawn once, by the
     first sense's scene) and renders at 22.5 and 45 deg."""
-    name = SENSE_SCENES[sense]
+    name = SENSE_GROUPS[sense]
     written = []
-    if name == next(s for s in SENSE_SCENES.values() if s in results):
+    if name == next(s for s in SENSE_GROUPS.values() if s in results):
         ax = plot_shear(results)
         ax.figure.tight_layout()
         written.append(directory / "figures" / "shear_force.png")
@@ -234,7 +232,7 @@ def figures(results: dict, directory: Path, sense: str) -> list[Path]:
 def _scene(sense: str) -> Scene:
     """The scene shearing in ``sense`` (it applies when ``shear.senses`` holds it)."""
     return Scene(
-        name=SENSE_SCENES[sense],
+        name=SENSE_GROUPS[sense],
         template="shear.lmp.j2",
         applies=lambda spec: sense in spec.shear.senses,
         requires=requires,
