@@ -339,10 +339,15 @@ def run(workdir: Path, full: bool = False) -> CaseResult:
         ),
         line_plot(
             workdir / "shear_senses.png",
-            [(c[0], c[1] / c[4], _label(frame)) for frame, (_, c, _) in identity.items()],
+            [
+                (c[0], units.from_micro(y, "N_m"), f"{_label(frame)}: {what}")
+                for frame, (_, c, _) in identity.items()
+                for y, what in ((c[1], "virial"), (c[4], "law"))
+            ],
             "shear angle g (deg)",
-            "F_N virial / law",
-            "Case 5b: stretched chains, both senses, 0/90 and +-45 frames",
+            "F_N (N/m)",
+            "Case 5b: stretched chains, both senses of the 0/90 and +-45 frames",
+            styles=["-", "--"] * len(identity),
         ),
     ]
     checks = [check for check, _ in zero] + [
