@@ -21,6 +21,7 @@ __all__ = [
     "HEXAGONAL_PACKING",
     "PATTERNS",
     "RANDOM_JAMMING",
+    "SHEAR_SENSES",
     "CellSpec",
     "CompactionSpec",
     "ContactSpec",
@@ -36,6 +37,7 @@ __all__ = [
     "StitchSpec",
     "load_spec",
     "parse_lapping",
+    "shear_recipe",
     "spec_from_dict",
 ]
 
@@ -56,6 +58,31 @@ HEXAGONAL_PACKING = math.pi / (2.0 * math.sqrt(3.0))
 
 #: Characters that would break the one-line message (a key may hold any of them).
 _CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u2028\u2029]")
+
+
+#: Senses of a picture-frame shear (docs/shear.md): positive lengthens the frame diagonal
+#: nearest the machine direction x, negative shortens it.
+SHEAR_SENSES = ("positive", "negative")
+#: Two frame directions (deg) closer than this are one (mirror images, the fibres of 0/90).
+FRAME_TOLERANCE_DEG = 1e-6
+
+
+def shear_recipe(frame: tuple[float, float]) -> str | None:
+    """The picture-frame recipe of a frame of two fibre directions (deg), or None.
+
+    ``"tilt"`` for 0/90 (edge a along x, edge b turns: the box tilts); ``"stretch"`` for two
+    directions mirror images about x (+phi0, -phi0 with 0 < phi0 < 90: the box stays
+    orthogonal and stretches along one axis while it shortens along the other).
+    """
+    low, high = sorted(frame)
+    if abs(low) < FRAME_TOLERANCE_DEG and abs(high - 90.0) < FRAME_TOLERANCE_DEG:
+        return "tilt"
+    if (
+        abs(low + high) < FRAME_TOLERANCE_DEG
+        and FRAME_TOLERANCE_DEG < high < 90.0 - FRAME_TOLERANCE_DEG
+    ):
+        return "stretch"
+    return None
 
 
 #: Lapping notation of the named stitch patterns (guide-bar gap positions, one overlap per course).
@@ -100,10 +127,23 @@ _FIBRE_MODULI = f"PP/PA fibres (~1-5 GPa) to pitch carbon (~900 GPa), below {_ST
 
 
 def _f(
-    default, lo=None, hi=None, *, lo_open=False, hi_open=False, unit="", source="", choices=None
+    default,
+    lo=None,
+    hi=None,
+    *,
+    lo_open=False,
+    hi_open=False,
+    unit="",
+    source="",
+    choices=None,
+    item=None,
 ):
-    """Dataclass field with its allowed range, unit and the source of its default."""
+    """Dataclass field with its allowed range, unit and the source of its default.
+
+    A list field has a tuple default and ``item``, the default of one element: each element is
+    checked against the range or ``choices`` like a field of that default."""
     meta = {
+        "item": item,
         "lo": lo,
         "hi": hi,
         "lo_open": lo_open,
@@ -428,6 +468,30 @@ class ShearSpec:
     fibre_pretension_N_m: float = _f(
         0.0, 0.0, 1000.0, unit="N/m", source="per unit width of each ply; paper frame: 22"
     )
+    frame_deg: tuple[float, ...] = _f(
+        (),
+        -90.0,
+        90.0,
+        lo_open=True,
+        item=0.0,
+        unit="deg",
+        source="the frame's edges follow two ply directions (Boisse et al., Int. J. Mater."
+        " Form. 10, 2017); empty: the first two distinct ply angles",
+    )
+    senses: tuple[str, ...] = _f(
+        ("positive",),
+        item="positive",
+        choices=SHEAR_SENSES,
+        source="positive: the frame diagonal nearest x lengthens (docs/shear.md)",
+    )
+
+    def frame(self, plies: tuple[PlySpec, ...]) -> tuple[float, float]:
+        """The two fibre directions (deg, requested ply angles) the frame's edges follow:
+        ``frame_deg``, else the first two distinct ply angles, else (one direction) 0 and 90."""
+        distinct = list(dict.fromkeys(p.angle_deg for p in plies))
+        if self.frame_deg:
+            return self.frame_deg[0], self.frame_deg[1]
+        return (distinct[0], distinct[1]) if len(distinct) > 1 else (0.0, 90.0)
 
 
 @dataclass(frozen=True)
@@ -512,8 +576,17 @@ def _table_dict(obj) -> dict[str, Any]:
 
 
 def _check_value(path: str, f: dataclasses.Field, value: Any) -> Any:
-    meta = f.metadata
-    default = f.default
+    if isinstance(f.default, tuple):
+        if not isinstance(value, list | tuple) or len(value) > 8:
+            raise SpecError(path, value, "must be a list of at most 8 items")
+        item = f.metadata["item"]
+        return tuple(
+            _check_scalar(f"{path}[{i}]", f.metadata, item, v) for i, v in enumerate(value)
+        )
+    return _check_scalar(path, f.metadata, f.default, value)
+
+
+def _check_scalar(path: str, meta, default, value: Any) -> Any:
     if value is None:
         if default is None:
             return None
@@ -646,6 +719,7 @@ def _check_consistency(spec: FabricSpec) -> None:
         )
     _check_bundle(spec)
     _check_random_bed(spec)
+    _check_shear(spec)
     internal = spec.discretisation.chain_internal_fvf
     if spec.contact.normal_model == "bundle":
         internal = spec.contact.bundle_max_fvf
@@ -691,6 +765,35 @@ def _check_bundle(spec: FabricSpec) -> None:
             "ply.E_GPa",
             sorted(moduli),
             "must be one value for contact.normal_model = 'bundle' (one law for every contact)",
+        )
+
+
+def _check_shear(spec: FabricSpec) -> None:
+    """The picture frame: two ply directions of a recipe; each sense once."""
+    shear = spec.shear
+    angles = {p.angle_deg for p in spec.plies}
+    if shear.frame_deg:
+        if len(shear.frame_deg) != 2:
+            raise SpecError("shear.frame_deg", list(shear.frame_deg), "must name two ply angles")
+        for angle in shear.frame_deg:
+            if angle not in angles:
+                raise SpecError(
+                    "shear.frame_deg",
+                    list(shear.frame_deg),
+                    f"{angle:g} is no ply's angle_deg (the plies: {', '.join(f'{a:g}' for a in sorted(angles))})",
+                )
+    frame = shear.frame(spec.plies)
+    if shear_recipe(frame) is None:
+        raise SpecError(
+            "shear.frame_deg",
+            list(frame),
+            "must be 0 and 90 (the box tilts) or two angles +phi0 and -phi0 (the box stretches)",
+        )
+    if not shear.senses or len(set(shear.senses)) != len(shear.senses):
+        raise SpecError(
+            "shear.senses",
+            list(shear.senses),
+            f"must hold each of {', '.join(SHEAR_SENSES)} at most once, at least one",
         )
 
 

@@ -6,15 +6,15 @@ import math
 
 import numpy as np
 import pytest
-from conftest import case_spec, copy_run
+from conftest import case_spec, copy_run, tiny_spec
 
 from ncf2lammps import build_model, run, run_scenes
-from ncf2lammps.analysis.shear import work_force
+from ncf2lammps.analysis.shear import PictureFrame, work_force
 from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
 from ncf2lammps.orchestration.report import write_report
 from ncf2lammps.scenes.shear import DEFORM_EVERY, shear_rate
-from ncf2lammps.spec import SpecError
+from ncf2lammps.spec import SpecError, shear_recipe
 
 #: Test rate and final angle on the coarse case (deg/us, deg): I = 0.1, 4 x the default, to
 #: 25 deg, about a minute. Faster, or further: at I = 0.1 the overlap guard stopped it near
@@ -177,3 +177,127 @@ def test_work_force_of_constant_membrane_forces():
     assert force == pytest.approx(nxy - nyy * np.tan(mid), rel=1e-5)
     _, same = work_force(angle, args[1], np.full(201, la), args[3], [nxy] * 200, [nyy] * 200)
     assert np.array_equal(same, force)  # a scalar lx is the constant edge
+
+
+def test_frame_and_senses_are_checked_with_one_line_errors():
+    spec = tiny_spec()
+    assert spec.shear.frame(spec.plies) == (90.0, 0.0)  # the first two distinct ply angles
+    assert spec.shear.senses == ("positive",)
+    bad = [
+        ("frame_deg", [0.0, 45.0], r"shear.frame_deg = \[0.0, 45.0\]: 45 is no ply's angle_deg"),
+        ("frame_deg", [0.0], r"shear.frame_deg = \[0.0\]: must name two ply angles"),
+        ("frame_deg", [90.0, 90.0], r"shear.frame_deg .*must be 0 and 90 .* or two angles"),
+        ("senses", ["sideways"], r"shear.senses\[0\] = 'sideways': must be one of positive"),
+        ("senses", ["negative", "negative"], r"shear.senses .*at most once"),
+        ("senses", [], r"shear.senses = \[\]: must hold"),
+    ]
+    for key, value, message in bad:
+        with pytest.raises(SpecError, match=message) as err:
+            tiny_spec(shear={key: value})
+        assert "\n" not in str(err.value)
+
+
+def test_recipe_kinds_of_frames():
+    assert shear_recipe((0.0, 90.0)) == shear_recipe((90.0, 0.0)) == "tilt"
+    assert shear_recipe((45.06, -45.06)) == shear_recipe((-30.0, 30.0)) == "stretch"
+    for frame in ((0.0, 45.0), (45.0, -45.1), (0.0, 0.0), (90.0, -90.0), (60.0, 90.0)):
+        assert shear_recipe(frame) is None, frame
+
+
+def test_tilt_recipe_is_the_paper_picture_frame():
+    """Tilt, positive: xy = Lb sin g, ly = Lb cos g, lx fixed (exactly); negative: xy mirrored."""
+    g = np.linspace(0.0, math.radians(60.0), 61)
+    lx, ly, xy = PictureFrame.tilt(1).box(g, 3.0, 2.0)
+    assert np.array_equal(xy, 2.0 * np.sin(g)) and np.array_equal(ly, 2.0 * np.cos(g))
+    assert np.all(lx == 3.0)
+    _, ly_n, xy_n = PictureFrame.tilt(-1).box(g, 3.0, 2.0)
+    assert np.array_equal(xy_n, -xy) and np.array_equal(ly_n, ly)
+
+
+@pytest.mark.parametrize("sense", [1, -1])
+def test_frame_fibres_keep_their_length(sense):
+    """Inextensibility: the fibres of the frame keep their lengths to 1e-12 (relative) along g,
+    for a realised +-45.06 deg frame (lattice vectors (a Lx, +-b Ly) of a non-square cell) and
+    for 0/90 (edge vectors); the angle between the fibres containing x changes by -s g."""
+    g = np.linspace(0.0, math.radians(50.0), 51)
+    lx0, ly0 = 1000.0, 1003.3  # um
+    phi0 = math.degrees(math.atan2(ly0, lx0))
+    frame = PictureFrame.stretch(phi0, sense)
+    lx, ly, xy = frame.box(g, lx0, ly0)
+    assert np.all(xy == 0.0)
+    for a, b in ((1, 1), (1, -1), (3, 3)):
+        length = np.hypot(a * lx, b * ly)
+        assert np.max(np.abs(length / length[0] - 1)) < 1e-12
+    between = 2 * np.arctan2(ly, lx)  # angle between +phi and -phi, containing x
+    assert np.allclose(between - between[0], -sense * g, atol=1e-12)
+    lx, ly, xy = PictureFrame.tilt(sense).box(g, lx0, ly0)
+    assert np.max(np.abs(np.hypot(xy, ly) / ly0 - 1)) < 1e-12  # edge b
+    assert np.all(lx == lx0)  # edge a
+    diagonal = np.hypot(lx + xy, ly)  # the +45 diagonal lengthens in the positive sense
+    assert np.all(sense * np.diff(diagonal) > 0)
+
+
+@pytest.mark.parametrize(
+    "frame", [PictureFrame.tilt(1), PictureFrame.tilt(-1), PictureFrame.stretch(45.06, -1)]
+)
+def test_virial_force_is_the_power_and_the_work(frame):
+    """F_N = power / (area shear rate): the closed forms of the deck (tilt s (Nxy - Nyy xy/ly),
+    stretch s (Nxx tan(phi) - Nyy cot(phi)) / 2) equal the general L = hdot h^-1 form to 1e-12,
+    and the work-based F_N of constant membrane forces over small intervals equals it to 1e-5."""
+    g = np.linspace(0.0, math.radians(45.0), 4501)
+    nxx, nyy, nxy = 3.0, -1.5, 0.7
+    lx, ly, xy = frame.box(g, 900.0, 1100.0)
+    general = frame.force(g, 900.0, 1100.0, nxx, nyy, nxy)
+    if frame.kind == "tilt":
+        closed = frame.sense * (nxy - nyy * xy / ly)
+    else:
+        phi = frame.half_angle - 0.5 * frame.sense * g
+        closed = frame.sense * (nxx * np.tan(phi) - nyy / np.tan(phi)) / 2
+    assert np.allclose(general, closed, rtol=1e-12, atol=1e-12)
+    n = len(g) - 1
+    _, by_work = work_force(g, xy, lx, ly, np.full(n, nxy), np.full(n, nyy), np.full(n, nxx))
+    mid = frame.force(0.5 * (g[1:] + g[:-1]), 900.0, 1100.0, nxx, nyy, nxy)
+    assert np.max(np.abs(by_work - mid)) < 1e-5 * np.max(np.abs(mid))
+
+
+def test_work_of_a_stretching_box_needs_nxx():
+    g = np.linspace(0.0, 0.1, 3)
+    lx, ly, xy = PictureFrame.stretch(45.0).box(g, 1.0, 1.0)
+    with pytest.raises(ValueError, match="give nxx"):
+        work_force(g, xy, lx, ly, np.zeros(2), np.zeros(2))
+
+
+@pytest.mark.lammps
+def test_both_senses_of_a_tiny_frictionless_mat(tmp_path):
+    """One run, both senses from the same start: /shear (positive, xy = Lb sin g) and
+    /shear_negative (xy = -Lb sin g, ly = Lb cos g, to 1e-3 of a box update); pretensioned
+    frictionless straight chains keep their lengths, so |F_N| < 1 % of N0 = 22 N/m in both;
+    summary.md gives F_N at 45 deg per sense and their ratio, one figure holds both curves."""
+    spec = tiny_spec(
+        stitch=None,
+        cell={"length_mm": 2.0, "width_mm": 2.0},
+        contact={"friction": 0.0},
+        shear={
+            "final_angle_deg": 46.0,
+            "fibre_pretension_N_m": 22.0,
+            "shear_rate_deg_us": 0.2,
+            "senses": ["positive", "negative"],
+        },
+    )
+    results = read_results(run(spec, tmp_path / "run", scenes=["shear", "shear_negative"]))
+    for group, sense in (("shear", "positive"), ("shear_negative", "negative")):
+        attrs = results[group]["attrs"]
+        assert (attrs["sense"], attrs["recipe"]) == (sense, "tilt")
+        assert list(attrs["frame_deg"]) == [90.0, 0.0]
+        assert np.max(np.abs(results[group]["force_N_per_m"])) < 0.01 * 22.0
+    box = read_ave_time(tmp_path / "run" / "shear_negative.box.txt")
+    lb = box["v_box_ly"][0]
+    update = (
+        DEFORM_EVERY * np.max(np.abs(np.diff(box["v_box_xy"]))) / np.diff(box["TimeStep"]).max()
+    )
+    assert np.max(np.abs(box["v_box_xy"] + lb * np.sin(box["v_g"]))) < 1e-3 * update
+    assert np.max(np.abs(box["v_box_ly"] - lb * np.cos(box["v_g"]))) < 1e-3 * update
+    summary = (tmp_path / "run" / "summary.md").read_text()
+    assert "| asymmetry F_N+(45) / F_N-(45) |" in summary
+    assert (tmp_path / "run" / "figures" / "shear_force.png").is_file()
+    assert (tmp_path / "run" / "shear_negative_45deg.data").is_file()

@@ -20,7 +20,7 @@ from matplotlib.collections import EllipseCollection
 from matplotlib.figure import Figure
 
 from .compaction import EXPERIMENT, PAPER_MODEL_THICKNESS_1KPA_MM
-from .shear import EXPERIMENT_FORCE_45DEG_N_PER_M, PAPER_MODEL_FORCE_45DEG_N_PER_M
+from .shear import EXPERIMENT_FORCE_45DEG_N_PER_M, PAPER_MODEL_FORCE_45DEG_N_PER_M, SENSE_GROUPS
 
 __all__ = [
     "CAPTIONS",
@@ -213,22 +213,28 @@ def plot_shear(results: dict, ax=None, label: str | None = None):
     """Normalised shear force F_N against shear angle with the paper's values at 45 deg; returns
     the axes.
 
-    ``results``: the dict of :func:`~ncf2lammps.io.results.read_results` (its ``shear`` group:
-    ``angle_deg``, ``force_N_per_m``, ``force_work_N_per_m``, attrs). Without ``label`` the
-    run's own figure: virial and work F_N, the shear rate in the title. With ``label``: the
-    virial F_N so named, to compare runs on one axes. The paper's marks are drawn once per axes.
+    ``results``: the dict of :func:`~ncf2lammps.io.results.read_results` (its ``shear`` and
+    ``shear_negative`` groups, the positive and negative senses, as far as run: ``angle_deg``,
+    ``force_N_per_m``, ``force_work_N_per_m``, attrs). Without ``label`` the run's own figure:
+    virial and work F_N of each sense, the shear rate in the title. With ``label``: the virial
+    F_N of each sense so named, to compare runs on one axes. The paper's marks are drawn once
+    per axes.
     """
-    group = results["shear"]
+    groups = {s: results[g] for s, g in SENSE_GROUPS.items() if g in results}
     if ax is None:
         ax = Figure(figsize=(6.5, 4.5)).subplots()
+    suffixes = {s: f", {s}" if len(groups) > 1 else "" for s in groups}
+    for sense, group in groups.items():
+        angle, virial = group["angle_deg"], group["force_N_per_m"]
+        if label is None:
+            ax.plot(angle, virial, lw=1.2, label=f"virial{suffixes[sense]}")
+            work_label = f"work dW/(A dg){suffixes[sense]}"
+            ax.plot(angle, group["force_work_N_per_m"], "--", lw=1.0, label=work_label)
+        else:
+            ax.plot(angle, virial, lw=1.0, label=f"{label}{suffixes[sense]}")
     if label is None:
-        ax.plot(group["angle_deg"], group["force_N_per_m"], lw=1.2, label="virial")
-        ax.plot(
-            group["angle_deg"], group["force_work_N_per_m"], "--", lw=1.0, label="work dW/(A dg)"
-        )
-        ax.set_title(f"picture-frame shear at {group['attrs']['shear_rate_deg_us']:.3g} deg/us")
-    else:
-        ax.plot(group["angle_deg"], group["force_N_per_m"], lw=1.0, label=label)
+        rate = next(iter(groups.values()))["attrs"]["shear_rate_deg_us"]
+        ax.set_title(f"picture-frame shear at {rate:.3g} deg/us")
     if not _has_paper_marks(ax):
         experiment = f"experiment (paper), ~{EXPERIMENT_FORCE_45DEG_N_PER_M:g} N/m"
         model = f"paper model, {PAPER_MODEL_FORCE_45DEG_N_PER_M:g} N/m"

@@ -12,6 +12,7 @@ import numpy as np
 
 from .. import __version__, units
 from ..analysis.plots import plot_local_thickness
+from ..analysis.shear import SENSE_GROUPS
 from ..analysis.trajectory import local_thickness
 from ..io.lammpslog import read_loop_times
 from ..io.results import mark_complete, read_results, write_root, write_scene
@@ -122,9 +123,15 @@ INDICATORS = (
     ("compaction", "max_kinetic_ratio", "kinetic_ratio_target"),
     ("compaction", "plate_force_imbalance", ""),
     ("compaction", "energy_balance_residual", ""),
-    ("shear", "max_kinetic_ratio", "kinetic_ratio_target"),
-    ("shear", "work_virial_max_deviation", ""),
-    ("shear", "energy_balance_residual", ""),
+    *(
+        (scene, key, limit)
+        for scene in SENSE_GROUPS.values()
+        for key, limit in (
+            ("max_kinetic_ratio", "kinetic_ratio_target"),
+            ("work_virial_max_deviation", ""),
+            ("energy_balance_residual", ""),
+        )
+    ),
 )
 
 
@@ -157,6 +164,23 @@ def _indicator_lines(results: dict) -> list[str]:
     return [*lines, ""]
 
 
+def _shear_sense_lines(results: dict) -> list[str]:
+    """F_N at 45 deg of each shear sense run and, with both, their ratio F_N+(45) / F_N-(45)."""
+    forces = {
+        sense: float(results[group]["attrs"]["force_at_45deg_N_per_m"])
+        for sense, group in SENSE_GROUPS.items()
+        if group in results and "force_at_45deg_N_per_m" in results[group]["attrs"]
+    }
+    if not forces:
+        return []
+    lines = ["## Shear senses", "", "| sense | F_N at 45 deg (N/m) |", "|---|---|"]
+    lines += [f"| {sense} | {_format(force)} |" for sense, force in forces.items()]
+    if len(forces) == 2:
+        ratio = forces["positive"] / forces["negative"] if forces["negative"] else float("nan")
+        lines.append(f"| asymmetry F_N+(45) / F_N-(45) | {_format(ratio)} |")
+    return [*lines, ""]
+
+
 def _incomplete_lines(directory: Path, results: dict, finished, bundle: bool) -> list[str]:
     """The warning of a run that did not finish: the scenes it has and how to continue."""
     if bool(results["attrs"]["complete"]):
@@ -179,6 +203,12 @@ def _incomplete_lines(directory: Path, results: dict, finished, bundle: bool) ->
         f" ({', '.join(finished) or 'none'}), not {', '.join(missing) or 'the rest'}: {how}.",
         "",
     ]
+
+
+def _owner(figure: Path, results: dict) -> str | None:
+    """The group a figure belongs to: the longest group name its file name starts with."""
+    names = [g for g in results if g != "attrs" and figure.stem.startswith(g)]
+    return max(names, key=len, default=None)
 
 
 def write_report(directory: str | os.PathLike) -> list[Path]:
@@ -212,6 +242,7 @@ def write_report(directory: str | os.PathLike) -> list[Path]:
         "",
         *_incomplete_lines(directory, results, finished, folder.bundle),
         *_indicator_lines(results),
+        *_shear_sense_lines(results),
     ]
     for scene, group in results.items():
         if scene == "attrs":
@@ -219,7 +250,7 @@ def write_report(directory: str | os.PathLike) -> list[Path]:
         lines += [f"## {scene}", "", "| quantity | value |", "|---|---|"]
         lines += [f"| {k} | {_format(v)} |" for k, v in sorted(group["attrs"].items())]
         lines += [""] + [
-            f"![{p.stem}](figures/{p.name})" for p in written if p.stem.startswith(scene)
+            f"![{p.stem}](figures/{p.name})" for p in written if _owner(p, results) == scene
         ]
         lines.append("")
     (directory / "summary.md").write_text("\n".join(lines))

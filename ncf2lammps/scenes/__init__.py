@@ -10,9 +10,12 @@ from .deck import Deck, deck_context, render_deck
 __all__ = ["SCENES", "Deck", "Scene", "applicable_scenes", "deck_context", "execute", "render_deck"]
 
 #: The scenes in the order a run executes them.
-SCENES: dict[str, Scene] = {s.name: s for s in (manufacture.SCENE, compaction.SCENE, shear.SCENE)}
+SCENES: dict[str, Scene] = {
+    s.name: s for s in (manufacture.SCENE, compaction.SCENE, shear.SCENE, shear.NEGATIVE)
+}
 
 
 def applicable_scenes(spec) -> tuple[str, ...]:
-    """The scenes a spec supports, in run order (manufacture needs a stitch)."""
+    """The scenes a spec supports, in run order (manufacture needs a stitch, each shear scene
+    its sense in ``shear.senses``)."""
     return tuple(name for name, scene in SCENES.items() if scene.applies(spec))

@@ -1,12 +1,16 @@
-"""Shear scene (paper section 4.2): picture-frame kinematics by tilting the periodic box.
+"""Shear scenes (paper section 4.2): picture-frame kinematics of the periodic box.
 
+Two scenes, one per sense of ``shear.senses`` (docs/shear.md): ``shear`` (positive) and
+``shear_negative``, each from the same start and with files named after the scene.
 Stages (templates/shear.lmp.j2):
 
 1. ``shear``: from the manufactured state (restart) or, without a stitch, the generated mat;
-   fibre bonds optionally pretensioned (``shear.fibre_pretension_N_m``); ``fix deform`` turns
-   edge b at a constant rate, ``xy = Lb sin g``, ``ly = Lb cos g``, up to the final angle; the
-   virial pressure tensor (interval means) and the box are recorded; data files are written at
-   22.5 and 45 deg (if reached) and at the final angle. No plates, no drag: contact damping only.
+   fibre bonds optionally pretensioned (``shear.fibre_pretension_N_m``); ``fix deform`` moves
+   the box at a constant shear rate in the recipe of the frame (:func:`picture_frame`: for
+   0/90 edge b turns, ``xy = s Lb sin g``, ``ly = Lb cos g``; for +-phi0 the box stretches) up
+   to the final angle; the virial pressure tensor (interval means) and the box are recorded;
+   data files are written at 22.5 and 45 deg (if reached) and at the final angle. No plates,
+   no drag: contact damping only.
 
 The rate, unless given, comes from an inertial number at a reference pressure
 (docs/shear.md): ``I = gdot d sqrt(rho / P)`` with ``I = shear.inertial_number``.
@@ -23,18 +27,20 @@ from .. import units
 from ..analysis.energy import energy_balance_residual
 from ..analysis.plots import plot_shear
 from ..analysis.render3d import state_views
-from ..analysis.shear import ShearCurve
+from ..analysis.shear import SENSE_GROUPS, PictureFrame, ShearCurve
 from ..geometry.direction import lattice_direction
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import Prepared, inertial_strain_rate
-from ..spec import FabricSpec
+from ..spec import FRAME_TOLERANCE_DEG, FabricSpec, SpecError, shear_recipe
 from .base import Scene
 
 __all__ = [
+    "NEGATIVE",
     "REFERENCE_PRESSURE_KPA",
     "SCENE",
+    "picture_frame",
     "shear_rate",
 ]
 
@@ -53,14 +59,37 @@ DEFORM_EVERY = 10
 LOADED_FRACTION = 0.25
 
 
-def applies(spec: FabricSpec) -> bool:
-    """Every fabric can be sheared."""
-    return True
+#: The sign s of each sense in the recipe (PictureFrame.sense).
+SIGNS = {"positive": 1, "negative": -1}
 
 
 def requires(spec: FabricSpec) -> tuple[str, ...]:
     """A stitched fabric is sheared as manufactured."""
     return ("manufacture",) if spec.stitch is not None else ()
+
+
+def picture_frame(spec: FabricSpec, model: Model, sense: str) -> PictureFrame:
+    """The recipe of ``shear.frame_deg`` at the realised angles of its plies' fibre types.
+
+    Each frame direction is the ``AtomType.angle_deg`` of the first ply of that requested
+    angle; ``half_angle`` is half the angle between the two that contains x (pi/4 for 0/90).
+    """
+    fibre_types = [t for t in model.atom_types if t.role == "fibre"]
+    requested = spec.shear.frame(spec.plies)
+    realised = []
+    for angle in requested:
+        index = next((i for i, p in enumerate(spec.plies) if p.angle_deg == angle), None)
+        realised.append(angle if index is None else float(fibre_types[index].angle_deg))
+    kind = shear_recipe((realised[0], realised[1]))
+    if kind is None:
+        raise SpecError(
+            "shear.frame_deg",
+            list(requested),
+            f"realised as {realised[0]:.6g} and {realised[1]:.6g} deg, neither 0/90 nor mirror"
+            f" images about x (to {FRAME_TOLERANCE_DEG:g} deg)",
+        )
+    half = math.pi / 4 if kind == "tilt" else math.radians(abs(realised[0]))
+    return PictureFrame(kind, SIGNS[sense], half, (realised[0], realised[1]))
 
 
 def shear_rate(spec: FabricSpec, model: Model) -> float:
@@ -119,11 +148,12 @@ def _stops(spec: FabricSpec, model: Model, dt: float) -> tuple[list[tuple[str, i
     return [(label, int(n)) for label, n in zip(labels, steps, strict=True) if n > 0], every
 
 
-def deck_values(run: Prepared) -> dict:
-    """Typed values of templates/shear.lmp.j2 (LAMMPS micro units)."""
+def deck_values(run: Prepared, sense: str) -> dict:
+    """Typed values of templates/shear.lmp.j2 (LAMMPS micro units) for ``sense``."""
     spec, model = run.spec, run.model
     segments, every = _stops(spec, model, run.time_step.dt)
     return {
+        "frame": picture_frame(spec, model, sense),
         "restart_file": "manufactured.restart" if spec.stitch is not None else None,
         "pretension_bonds": _pretension_bonds(spec, run.simulated),
         "rate": shear_rate(spec, model),
@@ -133,11 +163,12 @@ def deck_values(run: Prepared) -> dict:
     }
 
 
-def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
-    """(attrs, datasets) of /shear from the scene's files in ``directory``."""
+def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
+    """(attrs, datasets) of the ``sense``'s group from its scene's files in ``directory``."""
     spec, model = run.spec, run.model
-    stress = read_ave_time(directory / "shear.history.txt")
-    box = read_ave_time(directory / "shear.box.txt")
+    name, frame = SENSE_GROUPS[sense], picture_frame(spec, model, sense)
+    stress = read_ave_time(directory / f"{name}.history.txt")
+    box = read_ave_time(directory / f"{name}.box.txt")
     curve = ShearCurve(
         box["v_g"],
         box["v_box_xy"],
@@ -147,13 +178,17 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         stress["v_nxy"],
         stress["v_nyy"],
         stress["v_kinetic"],
+        stress.get("v_nxx"),
     ).compute()
     final = math.radians(spec.shear.final_angle_deg)
     force = units.from_micro(curve.force, "N_m")
     work = units.from_micro(curve.force_work, "N_m")
     loaded = np.abs(force) > 0.1 * np.abs(force).max()
     attrs = {
-        "steps": scene_steps(directory / "shear.final.txt"),
+        "steps": scene_steps(directory / f"{name}.final.txt"),
+        "sense": sense,
+        "recipe": frame.kind,
+        "frame_deg": np.array(frame.angles_deg),
         "force_at_45deg_N_per_m": units.from_micro(curve.force_at(math.pi / 4), "N_m"),
         "force_at_final_N_per_m": units.from_micro(curve.force_at(curve.angle[-1]), "N_m"),
         "max_kinetic_ratio": curve.max_kinetic_ratio(LOADED_FRACTION * final),
@@ -176,30 +211,40 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
     return attrs, datasets
 
 
-def figures(results: dict, directory: Path) -> list[Path]:
-    """F_N against angle (virial, work, the paper's values) and renders at 22.5 and 45 deg."""
-    ax = plot_shear(results)
-    ax.figure.tight_layout()
-    written = [directory / "figures" / "shear_force.png"]
-    ax.figure.savefig(written[-1], dpi=110)
+def figures(results: dict, directory: Path, sense: str) -> list[Path]:
+    """F_N against angle (virial, work, the paper's values; every sense run, drawn once, by the
+    first sense's scene) and renders at 22.5 and 45 deg."""
+    name = SENSE_GROUPS[sense]
+    written = []
+    if name == next(s for s in SENSE_GROUPS.values() if s in results):
+        ax = plot_shear(results)
+        ax.figure.tight_layout()
+        written.append(directory / "figures" / "shear_force.png")
+        ax.figure.savefig(written[-1], dpi=110)
     for angle in SNAPSHOT_DEG:
-        state_file = directory / f"shear_{angle:g}deg.data"
+        state_file = directory / f"{name}_{angle:g}deg.data"
         if not state_file.is_file():
             continue
-        fig = state_views(read_data(state_file), f"sheared {angle:g} deg")
-        written.append(directory / "figures" / f"shear_views_{angle:g}deg.png")
+        fig = state_views(read_data(state_file), f"sheared {angle:g} deg, {sense} sense")
+        written.append(directory / "figures" / f"{name}_views_{angle:g}deg.png")
         fig.savefig(written[-1], dpi=110)
     return written
 
 
-SCENE = Scene(
-    name="shear",
-    template="shear.lmp.j2",
-    applies=applies,
-    requires=requires,
-    deck_values=deck_values,
-    periods=lambda values: (values["history_every"],),
-    collect=collect,
-    figures=figures,
-    chunk=2000,
-)
+def _scene(sense: str) -> Scene:
+    """The scene shearing in ``sense`` (it applies when ``shear.senses`` holds it)."""
+    return Scene(
+        name=SENSE_GROUPS[sense],
+        template="shear.lmp.j2",
+        applies=lambda spec: sense in spec.shear.senses,
+        requires=requires,
+        deck_values=lambda run: deck_values(run, sense),
+        periods=lambda values: (values["history_every"],),
+        collect=lambda run, directory: collect(run, directory, sense),
+        figures=lambda results, directory: figures(results, directory, sense),
+        chunk=2000,
+    )
+
+
+SCENE = _scene("positive")
+NEGATIVE = _scene("negative")

@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from ... import units
-from ...analysis.shear import work_force
+from ...analysis.shear import PictureFrame, work_force
 from ...model import Model
 from .common import (
     E_CARBON,
@@ -134,7 +134,8 @@ def _shear(
         "angle_k": angle_k,
         "ghost_cutoff": 1.3 * pitch,
         "rate": rate,
-        "frame": frame,
+        "frame": PictureFrame.tilt(),
+        "edge": frame,
         "chunk": chunk,
     }
     law = contact(units.to_micro(1.0e5, "N_m"), mass, 0.0)
