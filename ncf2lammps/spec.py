@@ -476,7 +476,7 @@ class ShearSpec:
         item=0.0,
         unit="deg",
         source="the frame's edges follow two ply directions (Boisse et al., Int. J. Mater."
-        " Form. 10, 2017); empty: the first two distinct ply angles",
+        " Form. 10, 2017); empty: the first pair of ply angles with a recipe",
     )
     senses: tuple[str, ...] = _f(
         ("positive",),
@@ -487,11 +487,16 @@ class ShearSpec:
 
     def frame(self, plies: tuple[PlySpec, ...]) -> tuple[float, float]:
         """The two fibre directions (deg, requested ply angles) the frame's edges follow:
-        ``frame_deg``, else the first two distinct ply angles, else (one direction) 0 and 90."""
-        distinct = list(dict.fromkeys(p.angle_deg for p in plies))
+        ``frame_deg``, else the first pair of distinct ply angles, in ply order, that has a
+        recipe (:func:`shear_recipe`; 0/45/90/-45: 0 and 90), else the first two distinct ply
+        angles, else (one direction) 0 and 90."""
         if self.frame_deg:
             return self.frame_deg[0], self.frame_deg[1]
-        return (distinct[0], distinct[1]) if len(distinct) > 1 else (0.0, 90.0)
+        distinct = list(dict.fromkeys(p.angle_deg for p in plies))
+        if len(distinct) < 2:
+            return 0.0, 90.0
+        pairs = [(a, b) for i, a in enumerate(distinct) for b in distinct[i + 1 :]]
+        return next((pair for pair in pairs if shear_recipe(pair) is not None), pairs[0])
 
 
 @dataclass(frozen=True)
