@@ -26,6 +26,9 @@ __all__ = ["REST_LENGTHS_FILE", "RUPTURE_EVERY", "breaking_force", "collect", "d
 #: Steps between the checks of fix bond/break: a quasi-static bond stretches by far less than
 #: its break margin in this many steps.
 RUPTURE_EVERY = 10
+#: Beads per breakable block of a yarn (templates/stitch.lmp.j2): odd, so that the middle bond
+#: and the pairs it frees (within two beads of it) lie inside the block.
+RUPTURE_BLOCK = 5
 #: Written by manufacture with stitch.rupture: ``variable stitch_r0_<type> equal r0'`` (um).
 REST_LENGTHS_FILE = "manufactured.stitch.lmp"
 #: Broken bonds named in the ``stitch_broken_bonds`` attribute (summary.md), and stored with
@@ -82,7 +85,13 @@ def deck_value(run: Prepared) -> dict | None:
     if spec.stitch.rupture:
         bonds = [(i + 1, t) for i, t in enumerate(model.bond_types) if t.role == "stitch"]
         _check_pretension(spec, [t for _, t in bonds])
+        beads = np.flatnonzero(model.role_mask("stitch"))
+        yarns = np.unique(model.mol_id[beads])
         value["rupture"] = {
+            "first_id": int(beads[0]) + 1,
+            "per_yarn": len(beads) // len(yarns),
+            "mol_base": int(model.mol_id.max()) + 2,
+            "block": RUPTURE_BLOCK,
             "every": RUPTURE_EVERY,
             "file": REST_LENGTHS_FILE,
             "bond_types": [(i, *_break_length(spec.stitch, t)) for i, t in bonds],
