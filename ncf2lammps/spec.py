@@ -226,6 +226,29 @@ class StitchSpec:
     needle_diameter_mm: float = _f(
         1.0, 0.01, 10.0, unit="mm", source="E5 stitch-bonding compound needle, estimate"
     )
+    rupture: bool = _f(False, source="false: the paper's unbreakable stitch (docs/stitch.md)")
+    rupture_criterion: str = _f(
+        "force",
+        choices=("force", "strain"),
+        source="force: the yarn's breaking load, what a linear bond can match (docs/stitch.md)",
+    )
+    tenacity_cN_dtex: float = _f(
+        4.4,
+        0.01,
+        50.0,
+        unit="cN/dtex",
+        source="PES normal-tenacity filament yarn 4.5-5.5 gpd = 4.0-4.9 cN/dtex (Textile Notes,"
+        " 'Properties of polyester'), 'Polyesterfaser' breaking length 40-55 km = 3.9-5.4 cN/dtex"
+        " (wissen.de Lexikon); range: soft yarns to UHMWPE (~40 cN/dtex)",
+    )
+    elongation_at_break: float = _f(
+        0.20,
+        0.001,
+        10.0,
+        unit="-",
+        source="PES normal-tenacity filament yarn 15-25 % (Textile Notes, 'Properties of"
+        " polyester'; wissen.de Lexikon 'Polyesterfaser'); range: to elastane (~7)",
+    )
 
     @property
     def overlaps(self) -> tuple[tuple[int, int], ...]:
@@ -695,6 +718,7 @@ def _check_consistency(spec: FabricSpec) -> None:
                 stitch.packing_fraction,
                 "is only read with stitch.diameter_um unset (the diameter follows from it)",
             )
+        _check_rupture(stitch)
         repeat = (stitch.courses_per_repeat * stitch.stitch_length_mm, stitch.gauge_mm)
         for key, size, unit_len in zip(
             ("cell.length_mm", "cell.width_mm"),
@@ -744,6 +768,31 @@ def _check_consistency(spec: FabricSpec) -> None:
             spec.discretisation.chain_diameter_um,
             f"must be at most half the cell edge ({min(length, width) * 500:g} um)",
         )
+
+
+#: The rupture keys and the criterion (None: any) under which each is read.
+_RUPTURE_KEYS = {
+    "rupture_criterion": None,
+    "tenacity_cN_dtex": "force",
+    "elongation_at_break": "strain",
+}
+
+
+def _check_rupture(stitch: StitchSpec) -> None:
+    """The rupture keys are read only with ``stitch.rupture = true``, each under its criterion."""
+    defaults = StitchSpec()
+    for key, criterion in _RUPTURE_KEYS.items():
+        value = getattr(stitch, key)
+        if value == getattr(defaults, key):
+            continue
+        if not stitch.rupture:
+            raise SpecError(f"stitch.{key}", value, "is only read with stitch.rupture = true")
+        if criterion is not None and stitch.rupture_criterion != criterion:
+            raise SpecError(
+                f"stitch.{key}",
+                value,
+                f"is only read with stitch.rupture_criterion = '{criterion}'",
+            )
 
 
 def _check_bundle(spec: FabricSpec) -> None:

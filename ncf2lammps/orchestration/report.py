@@ -82,6 +82,8 @@ def _format(value) -> str:
         return f"{value:.5g}"
     if isinstance(value, bytes):
         return value.decode()
+    if isinstance(value, np.ndarray):
+        return f"array {value.shape} (results.h5)"
     return str(value)
 
 

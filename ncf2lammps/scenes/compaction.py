@@ -27,6 +27,7 @@ from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import Prepared, inertial_strain_rate
 from ..spec import FabricSpec
+from . import stitch
 from .base import Scene
 
 __all__ = [
@@ -91,6 +92,7 @@ def deck_values(run: Prepared) -> dict:
         "record_every": record,
         "final_gap": _final_gap(spec, model),
         "max_pressure": _max_pressure(spec),
+        "stitch": stitch.deck_value(run),
     }
 
 
@@ -146,7 +148,17 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         "reached_fvf": float(curve.fvf[-1]) if len(gap) else math.nan,
         "stopped_by": _stopped_by(spec, pressure, gap, final_gap),
     }
+    stitch_attrs, stitch_datasets = stitch.collect(
+        run,
+        directory,
+        "compaction",
+        history["TimeStep"][keep],
+        ("gap_mm", lambda gap: units.from_micro(gap, "mm")),
+        "compacted.data",
+    )
+    attrs |= stitch_attrs
     datasets = {
+        **stitch_datasets,
         "time_us": history["v_time"][keep],
         "gap_mm": curve.gap_mm,
         "pressure_kPa": curve.pressure,

@@ -44,6 +44,7 @@ from ..model import Model
 from ..numerics import Prepared
 from ..spec import FabricSpec
 from .base import Scene
+from .stitch import rest_lengths_file
 
 __all__ = ["SCENE", "ManufactureError", "needle_axes"]
 
@@ -183,6 +184,7 @@ def deck_values(run: Prepared) -> dict:
         "relax_steps": settings.max_relax_steps,
         "history_every": CONTROL_EVERY * WINDOW // 2,
         "pushoff": _pushoff_values(run) if spec.mat.arrangement == "random" else None,
+        "rest_lengths_file": rest_lengths_file(spec),
     }
 
 

@@ -34,6 +34,7 @@ from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import Prepared, inertial_strain_rate
 from ..spec import FRAME_TOLERANCE_DEG, FabricSpec, SpecError, shear_recipe
+from . import stitch
 from .base import Scene
 
 __all__ = [
@@ -160,6 +161,7 @@ def deck_values(run: Prepared, sense: str) -> dict:
         "segments": segments,
         "history_every": every,
         "deform_every": DEFORM_EVERY,
+        "stitch": stitch.deck_value(run),
     }
 
 
@@ -201,7 +203,18 @@ def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
         "final_angle_deg": math.degrees(curve.angle[-1]),
         "fibre_pretension_N_m": spec.shear.fibre_pretension_N_m,
     }
+    segments, _ = _stops(spec, model, run.time_step.dt)
+    stitch_attrs, stitch_datasets = stitch.collect(
+        run,
+        directory,
+        name,
+        stress["TimeStep"],
+        ("angle_deg", np.degrees),
+        f"{name}_{segments[-1][0]}deg.data",
+    )
+    attrs |= stitch_attrs
     datasets = {
+        **stitch_datasets,
         "angle_deg": np.degrees(curve.mid_angle),
         "force_N_per_m": force,
         "force_work_N_per_m": work,

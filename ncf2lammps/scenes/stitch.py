@@ -1,0 +1,156 @@
+"""The stitch yarn in the loading scenes (compaction, shear): its tension history and, with
+``stitch.rupture``, the rupture of its bonds (templates/stitch.lmp.j2, docs/stitch.md).
+
+The deck value :func:`deck_value` feeds the template's ``loading`` macro; manufacture writes the
+stitch rest lengths it settled at (:data:`REST_LENGTHS_FILE`) for the break lengths. Records:
+``<scene>.stitch.txt`` (mean and largest stitch tension, broken bonds), read by :func:`collect`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from .. import units
+from ..analysis.stitch import bond_midpoints, broken_bonds, first_break
+from ..io.datafile import read_data
+from ..io.lammpslog import read_ave_time
+from ..model import BondType
+from ..numerics import Prepared
+from ..spec import FabricSpec, SpecError, StitchSpec
+
+__all__ = ["REST_LENGTHS_FILE", "RUPTURE_EVERY", "breaking_force", "collect", "deck_value"]
+
+#: Steps between the checks of fix bond/break: a quasi-static bond stretches by far less than
+#: its break margin in this many steps.
+RUPTURE_EVERY = 10
+#: Beads per breakable block of a yarn (templates/stitch.lmp.j2): odd, so that the middle bond
+#: and the pairs it frees (within two beads of it) lie inside the block.
+RUPTURE_BLOCK = 5
+#: Written by manufacture with stitch.rupture: ``variable stitch_r0_<type> equal r0'`` (um).
+REST_LENGTHS_FILE = "manufactured.stitch.lmp"
+#: Broken bonds named in the ``stitch_broken_bonds`` attribute (summary.md), and stored with
+#: their beads and midpoints (array attributes, well inside HDF5's 64 kB per attribute).
+LISTED_BREAKS = 12
+STORED_BREAKS = 1000
+
+
+def rest_lengths_file(spec: FabricSpec) -> str | None:
+    """The rest-length file manufacture writes: only for a rupturing stitch."""
+    return REST_LENGTHS_FILE if spec.stitch is not None and spec.stitch.rupture else None
+
+
+def breaking_force(stitch: StitchSpec, bond: BondType) -> float:
+    """Tension (nN) at which a stitch bond of ``bond`` breaks: tenacity x linear density
+    (criterion ``force``), or ``EA`` x elongation at break (``strain``)."""
+    if stitch.rupture_criterion == "force":
+        return units.to_micro(0.01 * stitch.tenacity_cN_dtex * stitch.linear_density_dtex, "N")
+    return bond.axial_stiffness * stitch.elongation_at_break
+
+
+def _break_length(stitch: StitchSpec, bond: BondType) -> tuple[float, float]:
+    """(scale, offset) of the break length ``r0' scale + offset`` (um) of a stitch bond of rest
+    length r0' after manufacture: ``r0' + F_b / 2K`` (force) or ``r0' (1 + e_b)`` (strain)."""
+    if stitch.rupture_criterion == "force":
+        return 1.0, breaking_force(stitch, bond) / (2.0 * bond.k)
+    return 1.0 + stitch.elongation_at_break, 0.0
+
+
+def _check_pretension(spec: FabricSpec, bonds: list[BondType]) -> None:
+    """A stitch that breaks below its manufacture pretension would tear at the first step."""
+    stitch = spec.stitch
+    weakest = units.from_micro(min(breaking_force(stitch, b) for b in bonds), "N")
+    target = spec.manufacture.stitch_tension_N
+    if weakest <= target:
+        key = "tenacity_cN_dtex" if stitch.rupture_criterion == "force" else "elongation_at_break"
+        raise SpecError(
+            f"stitch.{key}",
+            getattr(stitch, key),
+            f"breaks the stitch at {weakest:.3g} N, not above the pretension"
+            f" manufacture.stitch_tension_N = {target:g} N",
+        )
+
+
+def deck_value(run: Prepared) -> dict | None:
+    """The ``stitch`` value of a loading deck (None without a stitch): bead type, bond count
+    and, with ``stitch.rupture``, the check period, rest-length file and per stitch bond type
+    (1-based) the break length's (scale, offset)."""
+    spec, model = run.spec, run.simulated
+    if spec.stitch is None:
+        return None
+    stitch_type = next(i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch")
+    value = {"type": stitch_type, "bonds": len(model.bonds), "rupture": None}
+    if spec.stitch.rupture:
+        bonds = [(i + 1, t) for i, t in enumerate(model.bond_types) if t.role == "stitch"]
+        _check_pretension(spec, [t for _, t in bonds])
+        beads = np.flatnonzero(model.role_mask("stitch"))
+        yarns = np.unique(model.mol_id[beads])
+        value["rupture"] = {
+            "first_id": int(beads[0]) + 1,
+            "per_yarn": len(beads) // len(yarns),
+            "mol_base": int(model.mol_id.max()) + 2,
+            "block": RUPTURE_BLOCK,
+            "every": RUPTURE_EVERY,
+            "file": REST_LENGTHS_FILE,
+            "bond_types": [(i, *_break_length(spec.stitch, t)) for i, t in bonds],
+        }
+    return value
+
+
+def _breaks(directory: Path, final_state: str) -> dict:
+    """Attributes of the stitch bonds missing from ``final_state`` against manufactured.data:
+    their count, a list of the first few, and (at most :data:`STORED_BREAKS`) their beads
+    (K, 2, 0-based) and midpoints in the manufactured cell (K, 3, mm)."""
+    before = read_data(directory / "manufactured.data")
+    after = read_data(directory / final_state)
+    gone = broken_bonds(before.bonds, after.bonds, len(before.positions))
+    pairs = before.bonds[gone]
+    box = before.box
+    middle = units.from_micro(bond_midpoints(before.positions, pairs, box.lo, box.lengths), "mm")
+    kinds = [before.bond_labels[t].split("_")[1] for t in before.bond_type[gone]]
+    listed = [
+        f"{kind} at ({x:.3f}, {y:.3f}, {z:.3f}) mm"
+        for kind, (x, y, z) in zip(kinds[:LISTED_BREAKS], middle, strict=False)
+    ]
+    return {
+        "stitch_bonds_broken": len(gone),
+        "stitch_broken_bonds": "; ".join(listed) + (" ..." if len(gone) > LISTED_BREAKS else ""),
+        "stitch_broken_beads": pairs[:STORED_BREAKS],
+        "stitch_broken_midpoints_mm": middle[:STORED_BREAKS],
+    }
+
+
+def collect(
+    run: Prepared,
+    directory: Path,
+    scene: str,
+    steps: np.ndarray,
+    abscissa: tuple[str, Callable[[np.ndarray], np.ndarray]],
+    final_state: str,
+) -> tuple[dict, dict]:
+    """(attrs, datasets) of the stitch in a loading scene (empty without a stitch): the records
+    of ``<scene>.stitch.txt`` at the scene's record ``steps`` (R,); ``abscissa`` = (name, its
+    values from the recorded column), e.g. ``("angle_deg", degrees of v_g)``; with rupture the
+    broken count per record, the first break and the broken bonds against ``final_state``."""
+    if run.spec.stitch is None:
+        return {}, {}
+    record = read_ave_time(directory / f"{scene}.stitch.txt")
+    rows = np.searchsorted(record["TimeStep"], steps)
+    name, convert = abscissa
+    column = next(k for k in record if k != "TimeStep")
+    x = convert(record[column][rows])
+    tension_max = units.from_micro(record["v_stitch_tension_max"][rows], "N")
+    datasets = {
+        f"stitch_{name}": x,
+        "stitch_tension_mean_N": units.from_micro(record["v_stitch_tension_mean"][rows], "N"),
+        "stitch_tension_max_N": tension_max,
+    }
+    attrs = {"stitch_tension_max_N": float(tension_max.max()) if rows.size else np.nan}
+    if not run.spec.stitch.rupture:
+        return attrs, datasets
+    broken = record["v_stitch_broken"][rows]
+    datasets["stitch_bonds_broken"] = broken
+    attrs[f"stitch_first_break_{name}"] = first_break(x, broken)
+    return {**attrs, **_breaks(directory, final_state)}, datasets
