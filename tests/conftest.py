@@ -41,7 +41,17 @@ def _needs_marker(start):
 
 Engine.__enter__ = _needs_marker(Engine.__enter__)
 orchestration_run._execute = _needs_marker(orchestration_run._execute)
-CASES = ("hpt310", "hpt310-coarse", "mat-only", "hpt310-bundle", "hpt310-bundle-coarse")
+CASES = (
+    "hpt310",
+    "hpt310-coarse",
+    "mat-only",
+    "hpt310-bundle",
+    "hpt310-bundle-coarse",
+    "pm45-cbx300",
+    "pm45-cbx300-coarse",
+    "quad-q400",
+    "quad-q400-coarse",
+)
 GOLDEN = ROOT / "tests" / "golden"
 UPDATE = os.environ.get("NCF2LAMMPS_UPDATE_GOLDEN") == "1"
 
