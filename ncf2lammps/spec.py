@@ -233,21 +233,21 @@ class StitchSpec:
         source="force: the yarn's breaking load, what a linear bond can match (docs/stitch.md)",
     )
     tenacity_cN_dtex: float = _f(
-        4.4,
+        4.7,
         0.01,
         50.0,
         unit="cN/dtex",
-        source="PES normal-tenacity filament yarn 4.5-5.5 gpd = 4.0-4.9 cN/dtex (Textile Notes,"
-        " 'Properties of polyester'), 'Polyesterfaser' breaking length 40-55 km = 3.9-5.4 cN/dtex"
-        " (wissen.de Lexikon); range: soft yarns to UHMWPE (~40 cN/dtex)",
+        source="medium-tenacity polyester, 0.47 N/tex (Morton & Hearle, Physical Properties of"
+        " Textile Fibres, Table 13.2); high-tenacity 0.56 N/tex; range: soft yarns to UHMWPE"
+        " (~40 cN/dtex)",
     )
     elongation_at_break: float = _f(
-        0.20,
+        0.15,
         0.001,
         10.0,
         unit="-",
-        source="PES normal-tenacity filament yarn 15-25 % (Textile Notes, 'Properties of"
-        " polyester'; wissen.de Lexikon 'Polyesterfaser'); range: to elastane (~7)",
+        source="medium-tenacity polyester, 15 % (Morton & Hearle, Physical Properties of Textile"
+        " Fibres, Table 13.2); high-tenacity 7 %; range: to elastane (~7)",
     )
 
     @property
