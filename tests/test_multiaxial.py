@@ -1,4 +1,5 @@
-"""Plies at any angle: lattice directions, closure, volume, overlaps (pure Python)."""
+"""Plies at any angle: lattice directions, closure, volume, overlaps; a generated +-45 mat in
+the picture frame."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from conftest import assert_model_invariants, bond_lengths, tiny_spec
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ncf2lammps import build_model
+from ncf2lammps import build_model, run
 from ncf2lammps.geometry.direction import (
     DIAMETER_TOLERANCE,
     lattice_direction,
@@ -18,6 +19,9 @@ from ncf2lammps.geometry.direction import (
     spec_ply_direction,
 )
 from ncf2lammps.geometry.size import model_size
+from ncf2lammps.io.lammpslog import read_ave_time
+from ncf2lammps.io.results import read_results
+from ncf2lammps.scenes.shear import DEFORM_EVERY
 from ncf2lammps.spec import SpecError
 
 CELL = (11200.0, 5080.0)  # the tiny tricot-chain cell, um
@@ -151,3 +155,38 @@ def test_angle_outside_range_is_refused(angle, message):
 def test_tolerance_key_is_validated():
     with pytest.raises(SpecError, match=r"mat.angle_tolerance_deg"):
         tiny_spec(mat={"angle_tolerance_deg": 0.0})
+
+
+@pytest.mark.lammps
+def test_generated_pm45_mat_sheared_both_ways_keeps_zero_force(tmp_path):
+    """End to end from the generator: a +-45 mat of pretensioned frictionless straight chains
+    (no stitch) sheared by the stretch recipe in both senses keeps every chain length, so
+    |F_N| < 1 % of the pretension N0 = 22 N/m (the frictionless identity); the box follows
+    ``lx = Lx cos(phi) / cos(phi0)``, ``ly = Ly sin(phi) / sin(phi0)``, ``phi = phi0 -+ g/2``,
+    to 1e-3 of a box update."""
+    spec = tiny_spec(
+        stitch=None,
+        ply=_plies(45.0, -45.0),
+        cell={"length_mm": 2.0, "width_mm": 2.0},
+        discretisation={"chain_diameter_um": 150.0},
+        contact={"friction": 0.0},
+        shear={
+            "final_angle_deg": 30.0,
+            "fibre_pretension_N_m": 22.0,
+            "shear_rate_deg_us": 0.2,
+            "senses": ["positive", "negative"],
+        },
+    )
+    results = read_results(run(spec, tmp_path / "run", scenes=["shear", "shear_negative"]))
+    phi0 = math.radians(45.0)
+    for group, sign in (("shear", 1.0), ("shear_negative", -1.0)):
+        attrs = results[group]["attrs"]
+        assert attrs["recipe"] == "stretch"
+        assert np.max(np.abs(results[group]["force_N_per_m"])) < 0.01 * 22.0
+        box = read_ave_time(tmp_path / "run" / f"{group}.box.txt")
+        phi = phi0 - sign * box["v_g"] / 2
+        update = (
+            DEFORM_EVERY * np.abs(np.diff(box["v_box_lx"])).max() / np.diff(box["TimeStep"]).max()
+        )
+        assert np.abs(box["v_box_lx"] - 2000.0 * np.cos(phi) / np.cos(phi0)).max() < 1e-3 * update
+        assert np.abs(box["v_box_ly"] - 2000.0 * np.sin(phi) / np.sin(phi0)).max() < 1e-3 * update
