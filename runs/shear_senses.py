@@ -5,7 +5,9 @@ tensions as evidence; prints one JSON object.
     python runs/shear_senses.py runs/pm45-cbx300-coarse/spec.toml out/pm45 out/pm45-senses
 
 The manufactured folder comes from ``ncf2lammps run SPEC -o out/pm45 --scene manufacture``; each
-rate runs in its own copy of it (``OUTPUT/rate-1``, ``OUTPUT/rate-0.5``). With ``stitch.rupture``
+rate runs in its own copy of it (``OUTPUT/rate-1``, ``OUTPUT/rate-0.5``, each with its summary.md
+and figures); a rate whose folder already
+holds both senses' results is read, not run again. With ``stitch.rupture``
 in the spec the manufactured folder must come from the same spec (it writes the rest lengths).
 """
 
@@ -16,17 +18,16 @@ from pathlib import Path
 
 import ncf2lammps as n2l
 from ncf2lammps.io.results import read_results
+from ncf2lammps.orchestration.report import write_report
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("spec", type=Path)
 parser.add_argument("manufactured", type=Path, help="folder of `run --scene manufacture`")
-parser.add_argument("output", type=Path, help="new folder")
+parser.add_argument("output", type=Path, help="folder of the rate copies")
 parser.add_argument("--np", type=int, default=1, help="MPI ranks")
 parser.add_argument("--rates", type=float, nargs="+", default=[1.0, 0.5], help="x the spec's")
 args = parser.parse_args()
 
-if args.output.exists():
-    parser.error(f"output = {args.output}: exists; choose a new folder")
 base = n2l.load_spec(args.spec)
 inertial = base.shear.inertial_number
 report: dict = {"spec": str(args.spec), "rates": {}}
@@ -35,8 +36,12 @@ for factor in args.rates:
         shear={"senses": ["positive", "negative"], "inertial_number": inertial * factor}
     )
     folder = args.output / f"rate-{factor:g}"
-    shutil.copytree(args.manufactured, folder)
-    results = read_results(n2l.run_scenes(spec, folder, ["shear", "shear_negative"], args.np))
+    results = read_results(folder / "results.h5") if folder.is_dir() else {}
+    if not {"shear", "shear_negative"} <= results.keys():
+        shutil.rmtree(folder, ignore_errors=True)
+        shutil.copytree(args.manufactured, folder)
+        results = read_results(n2l.run_scenes(spec, folder, ["shear", "shear_negative"], args.np))
+        write_report(folder)  # summary.md with the asymmetry, figures/shear_force.png
     senses = {}
     for group in ("shear", "shear_negative"):
         attrs = results[group]["attrs"]
@@ -53,7 +58,7 @@ for factor in args.rates:
                 "stitch_first_break_angle_deg",
             )
         }
-        tension = results[group]["datasets"].get("stitch_tension_mean_N")
+        tension = results[group].get("stitch_tension_mean_N")
         if tension is not None:
             senses[attrs["sense"]]["stitch_tension_mean_final_N"] = float(tension[-1])
     positive, negative = senses["positive"], senses["negative"]
