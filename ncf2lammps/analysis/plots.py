@@ -25,6 +25,7 @@ from .shear import EXPERIMENT_FORCE_45DEG_N_PER_M, PAPER_MODEL_FORCE_45DEG_N_PER
 __all__ = [
     "CAPTIONS",
     "VIEWS",
+    "paper_comparable",
     "plot_compaction",
     "plot_histories",
     "plot_local_thickness",
@@ -170,8 +171,9 @@ def render_views(
     return fig
 
 
-def plot_compaction(results: dict, ax=None, label: str | None = None):
-    """Pressure against plate gap with the paper's experiment and model marked; returns the axes.
+def plot_compaction(results: dict, ax=None, label: str | None = None, paper_marks: bool = True):
+    """Pressure against plate gap with the paper's experiment and model marked (``paper_marks``:
+    the paper's 0/90 fabric; off for another); returns the axes.
 
     ``results``: the dict of :func:`~ncf2lammps.io.results.read_results` (its ``compaction``
     group: ``gap_mm``, ``pressure_kPa``, ``pressure_smoothed_kPa``, attrs). Without ``label``
@@ -196,7 +198,7 @@ def plot_compaction(results: dict, ax=None, label: str | None = None):
         ax.set_title(f"compaction at {attrs['plate_speed_m_s']:.3g} m/s")
     else:
         ax.plot(group["gap_mm"], group["pressure_smoothed_kPa"], lw=1.2, label=label)
-    if not _has_paper_marks(ax):
+    if paper_marks and not _has_paper_marks(ax):
         ax.plot(*zip(*EXPERIMENT, strict=True), "ks", gid="paper", label="experiment (paper)")
         ax.plot(
             [PAPER_MODEL_THICKNESS_1KPA_MM], [1.0], "r^", gid="paper", label="paper model at 1 kPa"
@@ -209,9 +211,9 @@ def plot_compaction(results: dict, ax=None, label: str | None = None):
     return ax
 
 
-def plot_shear(results: dict, ax=None, label: str | None = None):
-    """Normalised shear force F_N against shear angle with the paper's values at 45 deg; returns
-    the axes.
+def plot_shear(results: dict, ax=None, label: str | None = None, paper_marks: bool = True):
+    """Normalised shear force F_N against shear angle with the paper's values at 45 deg
+    (``paper_marks``: the paper's 0/90 fabric; off for another); returns the axes.
 
     ``results``: the dict of :func:`~ncf2lammps.io.results.read_results` (its ``shear`` and
     ``shear_negative`` groups, the positive and negative senses, as far as run: ``angle_deg``,
@@ -235,7 +237,7 @@ def plot_shear(results: dict, ax=None, label: str | None = None):
     if label is None:
         rate = next(iter(groups.values()))["attrs"]["shear_rate_deg_us"]
         ax.set_title(f"picture-frame shear at {rate:.3g} deg/us")
-    if not _has_paper_marks(ax):
+    if paper_marks and not _has_paper_marks(ax):
         experiment = f"experiment (paper), ~{EXPERIMENT_FORCE_45DEG_N_PER_M:g} N/m"
         model = f"paper model, {PAPER_MODEL_FORCE_45DEG_N_PER_M:g} N/m"
         ax.plot([45.0], [EXPERIMENT_FORCE_45DEG_N_PER_M], "ks", gid="paper", label=experiment)
@@ -245,6 +247,12 @@ def plot_shear(results: dict, ax=None, label: str | None = None):
     ax.set_ylabel("normalised shear force F_N (N/m)")
     ax.legend(fontsize=8)
     return ax
+
+
+def paper_comparable(ply_angles_deg) -> bool:
+    """Whether the paper's marks belong on a run's figures: a fabric of 0 and 90 deg plies only
+    (the paper's experiment is a 0/90 NCF)."""
+    return set(np.round(np.asarray(ply_angles_deg, dtype=float), 9)) <= {0.0, 90.0}
 
 
 def _has_paper_marks(ax) -> bool:

@@ -202,3 +202,8 @@ class Model:
         index = [t.name for t in self.atom_types].index(type_name)
         mask = self.type_id == index
         return int(np.unique(self.mol_id[mask]).size), int(mask.sum())
+
+    @property
+    def ply_angles_deg(self) -> np.ndarray:
+        """(P,) realised chain angles (deg) of the fibre types, in ply order."""
+        return np.array([t.angle_deg for t in self.atom_types if t.role == "fibre"], dtype=float)

@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import units
 from ..analysis.compaction import CompactionCurve
-from ..analysis.plots import plot_compaction
+from ..analysis.plots import paper_comparable, plot_compaction
 from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import Prepared, inertial_strain_rate
@@ -135,6 +135,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
     t1, t18 = (curve.thickness_at(p) for p in REPORT_PRESSURES)
     attrs = {
         "steps": scene_steps(directory / "compaction.final.txt"),
+        "ply_angles_deg": model.ply_angles_deg,
         "thickness_at_1kPa_mm": t1,
         "thickness_at_18kPa_mm": t18,
         "fvf_at_18kPa": units.from_micro(per_area, "mm") / t18 if math.isfinite(t18) else math.nan,
@@ -171,8 +172,9 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
 
 
 def figures(results: dict, directory: Path) -> list[Path]:
-    """Pressure against thickness with the paper's experiment and model marked."""
-    ax = plot_compaction(results)
+    """Pressure against thickness with the paper's experiment and model marked (a 0/90 fabric)."""
+    angles = results["compaction"]["attrs"].get("ply_angles_deg", ())
+    ax = plot_compaction(results, paper_marks=paper_comparable(angles))
     ax.figure.tight_layout()
     path = directory / "figures" / "compaction.png"
     ax.figure.savefig(path, dpi=110)

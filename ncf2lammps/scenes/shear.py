@@ -25,7 +25,7 @@ import numpy as np
 
 from .. import units
 from ..analysis.energy import energy_balance_residual
-from ..analysis.plots import plot_shear
+from ..analysis.plots import paper_comparable, plot_shear
 from ..analysis.render3d import state_views
 from ..analysis.shear import SENSE_GROUPS, PictureFrame, ShearCurve
 from ..geometry.direction import lattice_direction
@@ -191,6 +191,7 @@ def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
         "sense": sense,
         "recipe": frame.kind,
         "frame_deg": np.array(frame.angles_deg),
+        "ply_angles_deg": model.ply_angles_deg,
         "force_at_45deg_N_per_m": units.from_micro(curve.force_at(math.pi / 4), "N_m"),
         "force_at_final_N_per_m": units.from_micro(curve.force_at(curve.angle[-1]), "N_m"),
         "max_kinetic_ratio": curve.max_kinetic_ratio(LOADED_FRACTION * final),
@@ -230,7 +231,8 @@ def figures(results: dict, directory: Path, sense: str) -> list[Path]:
     name = SENSE_GROUPS[sense]
     written = []
     if name == next(s for s in SENSE_GROUPS.values() if s in results):
-        ax = plot_shear(results)
+        angles = results[name]["attrs"].get("ply_angles_deg", ())
+        ax = plot_shear(results, paper_marks=paper_comparable(angles))
         ax.figure.tight_layout()
         written.append(directory / "figures" / "shear_force.png")
         ax.figure.savefig(written[-1], dpi=110)
