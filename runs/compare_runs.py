@@ -1,6 +1,6 @@
-"""Example post-processing script: compaction (and shear, where run) curves of several run
+"""Example post-processing script: compaction and shear curves (each sense run) of several run
 folders or of every point of a study, with the paper's experiment and model marked
-(docs/fidelity.md).
+(docs/fidelity.md; ``--no-paper-marks`` for another fabric).
 
     python runs/compare_runs.py OUT.png LABEL=RUN_DIR [LABEL=RUN_DIR ...]
     python runs/compare_runs.py OUT.png --study STUDY_DIR
@@ -39,6 +39,9 @@ parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("output", type=Path, help="PNG to write")
 parser.add_argument("runs", nargs="*", type=labelled, help="LABEL=RUN_DIR")
 parser.add_argument("--study", type=Path, help="a study folder: plot all its points")
+parser.add_argument(
+    "--no-paper-marks", action="store_true", help="another fabric than the paper's 0/90 NCF"
+)
 args = parser.parse_args()
 runs = args.runs + (study_points(args.study) if args.study else [])
 if not runs:
@@ -48,14 +51,16 @@ curves = []
 for label, folder in runs:
     if (folder / "results.h5").is_file():
         curves.append((label, read_results(folder / "results.h5")))
+marks = not args.no_paper_marks
+compacted = any("compaction" in data for _, data in curves)
 sheared = any("shear" in data for _, data in curves)
-fig = Figure(figsize=(11.0 if sheared else 7.0, 4.8))
-axes = fig.subplots(1, 2 if sheared else 1, squeeze=False)[0]
+fig = Figure(figsize=(11.0 if compacted and sheared else 7.0, 4.8))
+axes = list(fig.subplots(1, compacted + sheared, squeeze=False)[0])
 for label, data in curves:
     if "compaction" in data:
-        plot_compaction(data, axes[0], label=label)
-    if sheared and "shear" in data:
-        plot_shear(data, axes[1], label=label)
+        plot_compaction(data, axes[0], label=label, paper_marks=marks)
+    if "shear" in data:
+        plot_shear(data, axes[-1], label=label, paper_marks=marks)
 fig.tight_layout()
 fig.savefig(args.output, dpi=110)
 print(f"wrote {args.output}")
