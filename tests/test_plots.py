@@ -76,3 +76,39 @@ def test_importing_the_package_keeps_the_backend():
     )
     env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}
     subprocess.run([sys.executable, "-c", code], env=env, check=True)
+
+
+def test_paper_marks_only_for_the_papers_fabric():
+    """The paper's marks belong to a 0/90 fabric; a +-45 one gets its curves alone."""
+    from ncf2lammps.analysis.plots import paper_comparable
+
+    assert paper_comparable([0.0, 90.0]) and paper_comparable([])
+    assert not paper_comparable([45.0617, -45.0617])
+    ax = plot_shear(_results(), paper_marks=False)
+    assert not any(line.get_gid() == "paper" for line in ax.get_lines())
+
+
+def test_stitch_tension_plot_draws_each_sense_and_the_first_break():
+    from ncf2lammps.analysis.plots import plot_stitch_tension
+
+    results = _results()
+    angle = results["shear"]["angle_deg"]
+    broken = (angle > 30.0).astype(float)
+    for group, scale in (("shear", 0.0), ("shear_negative", 1.0)):
+        results.setdefault(group, {"attrs": {}})
+        results[group] |= {
+            "stitch_angle_deg": angle,
+            "stitch_tension_mean_N": 0.1 + scale * 0.05 * angle,
+            "stitch_tension_max_N": 0.2 + scale * 0.06 * angle,
+            "stitch_bonds_broken": broken * scale,
+        }
+    ax = plot_stitch_tension(results)
+    labels = [line.get_label() for line in ax.get_lines()]
+    assert labels == [
+        "mean, positive",
+        "largest, positive",
+        "mean, negative",
+        "largest, negative",
+        "first break, negative",
+    ]
+    assert ax.get_lines()[-1].get_xdata()[0] == angle[np.argmax(angle > 30.0)]

@@ -30,6 +30,7 @@ __all__ = [
     "plot_histories",
     "plot_local_thickness",
     "plot_shear",
+    "plot_stitch_tension",
     "plot_study",
     "render_cell",
     "render_views",
@@ -245,6 +246,38 @@ def plot_shear(results: dict, ax=None, label: str | None = None, paper_marks: bo
     ax.set_yscale("symlog", linthresh=0.1)
     ax.set_xlabel("shear angle (deg)")
     ax.set_ylabel("normalised shear force F_N (N/m)")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def plot_stitch_tension(results: dict, ax=None):
+    """Mean and largest stitch bond tension (N) against shear angle of every sense run (the
+    evidence of which sense stretches the stitch), broken bonds marked; returns the axes.
+
+    ``results``: as :func:`plot_shear`, groups with ``stitch_angle_deg``,
+    ``stitch_tension_mean_N``, ``stitch_tension_max_N`` (and ``stitch_bonds_broken``).
+    """
+    groups = {s: results[g] for s, g in SENSE_GROUPS.items() if g in results}
+    if ax is None:
+        ax = Figure(figsize=(6.5, 4.5)).subplots()
+    for index, (sense, group) in enumerate(groups.items()):
+        angle = group["stitch_angle_deg"]
+        colour = f"C{index}"
+        ax.plot(angle, group["stitch_tension_mean_N"], lw=1.2, color=colour, label=f"mean, {sense}")
+        ax.plot(
+            angle,
+            group["stitch_tension_max_N"],
+            "--",
+            lw=1.0,
+            color=colour,
+            label=f"largest, {sense}",
+        )
+        broken = group.get("stitch_bonds_broken")
+        if broken is not None and np.any(broken > 0):
+            first = int(np.argmax(broken > 0))
+            ax.axvline(angle[first], color=colour, lw=0.8, ls=":", label=f"first break, {sense}")
+    ax.set_xlabel("shear angle (deg)")
+    ax.set_ylabel("stitch bond tension (N)")
     ax.legend(fontsize=8)
     return ax
 

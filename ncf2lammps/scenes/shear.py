@@ -25,7 +25,7 @@ import numpy as np
 
 from .. import units
 from ..analysis.energy import energy_balance_residual
-from ..analysis.plots import paper_comparable, plot_shear
+from ..analysis.plots import paper_comparable, plot_shear, plot_stitch_tension
 from ..analysis.render3d import state_views
 from ..analysis.shear import SENSE_GROUPS, PictureFrame, ShearCurve
 from ..geometry.direction import lattice_direction
@@ -226,8 +226,9 @@ def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
 
 
 def figures(results: dict, directory: Path, sense: str) -> list[Path]:
-    """F_N against angle (virial, work, the paper's values; every sense run, drawn once, by the
-    first sense's scene) and renders at 22.5 and 45 deg."""
+    """F_N against angle (virial, work, the paper's values for a 0/90 fabric) and the stitch
+    tensions (a stitched fabric), every sense run drawn once, by the first sense's scene; renders
+    at 22.5 and 45 deg."""
     name = SENSE_GROUPS[sense]
     written = []
     if name == next(s for s in SENSE_GROUPS.values() if s in results):
@@ -236,6 +237,11 @@ def figures(results: dict, directory: Path, sense: str) -> list[Path]:
         ax.figure.tight_layout()
         written.append(directory / "figures" / "shear_force.png")
         ax.figure.savefig(written[-1], dpi=110)
+        if "stitch_angle_deg" in results[name]:
+            ax = plot_stitch_tension(results)
+            ax.figure.tight_layout()
+            written.append(directory / "figures" / "stitch_tension.png")
+            ax.figure.savefig(written[-1], dpi=110)
     for angle in SNAPSHOT_DEG:
         state_file = directory / f"{name}_{angle:g}deg.data"
         if not state_file.is_file():
