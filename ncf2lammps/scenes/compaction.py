@@ -92,7 +92,7 @@ def deck_values(run: Prepared) -> dict:
         "record_every": record,
         "final_gap": _final_gap(spec, model),
         "max_pressure": _max_pressure(spec),
-        "stitch": stitch.deck_value(run),
+        "stitch": stitch.deck_value(run, "compaction"),
     }
 
 
@@ -155,7 +155,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         "compaction",
         history["TimeStep"][keep],
         ("gap_mm", lambda gap: units.from_micro(gap, "mm")),
-        "compacted.data",
+        None,
     )
     attrs |= stitch_attrs
     datasets = {

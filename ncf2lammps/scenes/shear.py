@@ -161,7 +161,7 @@ def deck_values(run: Prepared, sense: str) -> dict:
         "segments": segments,
         "history_every": every,
         "deform_every": DEFORM_EVERY,
-        "stitch": stitch.deck_value(run),
+        "stitch": stitch.deck_value(run, SENSE_GROUPS[sense]),
     }
 
 

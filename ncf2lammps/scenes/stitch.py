@@ -21,7 +21,14 @@ from ..model import BondType
 from ..numerics import Prepared
 from ..spec import FabricSpec, SpecError, StitchSpec
 
-__all__ = ["REST_LENGTHS_FILE", "RUPTURE_EVERY", "breaking_force", "collect", "deck_value"]
+__all__ = [
+    "REST_LENGTHS_FILE",
+    "RUPTURE_EVERY",
+    "breaking_force",
+    "collect",
+    "deck_value",
+    "ruptures",
+]
 
 #: Steps between the checks of fix bond/break: a quasi-static bond stretches by far less than
 #: its break margin in this many steps.
@@ -73,16 +80,23 @@ def _check_pretension(spec: FabricSpec, bonds: list[BondType]) -> None:
         )
 
 
-def deck_value(run: Prepared) -> dict | None:
-    """The ``stitch`` value of a loading deck (None without a stitch): bead type, bond count
-    and, with ``stitch.rupture``, the check period, rest-length file and per stitch bond type
-    (1-based) the break length's (scale, offset)."""
+def ruptures(spec: FabricSpec, scene: str) -> bool:
+    """Whether the stitch can break in ``scene``: with ``stitch.rupture``, in shear only. A
+    compaction presses past the experiment's range (to Vf 0.67 by default) where the squeezed
+    yarn's bonds snap and fire their beads out (a lost-atoms stop on the coarse +-45 cell)."""
+    return spec.stitch is not None and spec.stitch.rupture and scene != "compaction"
+
+
+def deck_value(run: Prepared, scene: str) -> dict | None:
+    """The ``stitch`` value of the loading deck of ``scene`` (None without a stitch): bead type,
+    bond count and, where it can break (:func:`ruptures`), the check period, rest-length file and
+    per stitch bond type (1-based) the break length's (scale, offset)."""
     spec, model = run.spec, run.simulated
     if spec.stitch is None:
         return None
     stitch_type = next(i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch")
     value = {"type": stitch_type, "bonds": len(model.bonds), "rupture": None}
-    if spec.stitch.rupture:
+    if ruptures(spec, scene):
         bonds = [(i + 1, t) for i, t in enumerate(model.bond_types) if t.role == "stitch"]
         _check_pretension(spec, [t for _, t in bonds])
         beads = np.flatnonzero(model.role_mask("stitch"))
@@ -128,12 +142,13 @@ def collect(
     scene: str,
     steps: np.ndarray,
     abscissa: tuple[str, Callable[[np.ndarray], np.ndarray]],
-    final_state: str,
+    final_state: str | None,
 ) -> tuple[dict, dict]:
     """(attrs, datasets) of the stitch in a loading scene (empty without a stitch): the records
     of ``<scene>.stitch.txt`` at the scene's record ``steps`` (R,); ``abscissa`` = (name, its
     values from the recorded column), e.g. ``("angle_deg", degrees of v_g)``; with rupture the
-    broken count per record, the first break and the broken bonds against ``final_state``."""
+    broken count per record, the first break and the broken bonds against ``final_state`` (a
+    scene where the stitch can break, :func:`ruptures`)."""
     if run.spec.stitch is None:
         return {}, {}
     record = read_ave_time(directory / f"{scene}.stitch.txt")
@@ -148,7 +163,7 @@ def collect(
         "stitch_tension_max_N": tension_max,
     }
     attrs = {"stitch_tension_max_N": float(tension_max.max()) if rows.size else np.nan}
-    if not run.spec.stitch.rupture:
+    if not ruptures(run.spec, scene):
         return attrs, datasets
     broken = record["v_stitch_broken"][rows]
     datasets["stitch_bonds_broken"] = broken
