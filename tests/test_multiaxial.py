@@ -122,6 +122,19 @@ def test_wavy_and_bent_plies_at_any_angle(plane):
     assert len(model.angles) == model.role_mask("fibre").sum()
 
 
+def test_bundle_law_at_any_angle():
+    """Bundle chains (fill below 1) at +-45 deg keep the generation invariants."""
+    spec = tiny_spec(
+        ply=_plies(45.0, -45.0),
+        discretisation={"chain_diameter_um": 150.0},
+        contact={"normal_model": "bundle", "normal_stiffness_N_m": 1e5},
+        mat={"initial_fvf": 0.2},
+    )
+    model = build_model(spec)
+    assert_model_invariants(spec, model)
+    assert model.atom_types[0].fill < 1.0
+
+
 def test_random_bed_at_any_angle():
     """A random +-45 bed keeps the fibre volume (1e-9) and puts each chain inside its slab."""
     spec = tiny_spec(
