@@ -93,6 +93,24 @@ def tiny_spec(**tables):
     return spec_from_dict(data)
 
 
+def frictionless_mat_spec(final_angle_deg: float, **tables):
+    """A 2 x 2 mm unstitched mat of frictionless chains pretensioned at 22 N/m, sheared in both
+    senses at 0.2 deg/us to ``final_angle_deg``: the picture frame's zero-force identity."""
+    shear = {
+        "final_angle_deg": final_angle_deg,
+        "fibre_pretension_N_m": 22.0,
+        "shear_rate_deg_us": 0.2,
+        "senses": ["positive", "negative"],
+    }
+    return tiny_spec(
+        stitch=None,
+        cell={"length_mm": 2.0, "width_mm": 2.0},
+        contact={"friction": 0.0},
+        shear=shear,
+        **tables,
+    )
+
+
 def closest_pairs(positions: np.ndarray, box_lengths: np.ndarray, cutoff: float):
     """Pairs (i, j) and distances of beads closer than ``cutoff``, periodic in x and y only."""
     shifted = positions - positions.min(axis=0) * np.array([0, 0, 1])

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import assert_model_invariants, bond_lengths, tiny_spec
+from conftest import assert_model_invariants, bond_lengths, frictionless_mat_spec, tiny_spec
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -177,18 +177,8 @@ def test_generated_pm45_mat_sheared_both_ways_keeps_zero_force(tmp_path):
     |F_N| < 1 % of the pretension N0 = 22 N/m (the frictionless identity); the box follows
     ``lx = Lx cos(phi) / cos(phi0)``, ``ly = Ly sin(phi) / sin(phi0)``, ``phi = phi0 -+ g/2``,
     to 1e-3 of a box update."""
-    spec = tiny_spec(
-        stitch=None,
-        ply=_plies(45.0, -45.0),
-        cell={"length_mm": 2.0, "width_mm": 2.0},
-        discretisation={"chain_diameter_um": 150.0},
-        contact={"friction": 0.0},
-        shear={
-            "final_angle_deg": 30.0,
-            "fibre_pretension_N_m": 22.0,
-            "shear_rate_deg_us": 0.2,
-            "senses": ["positive", "negative"],
-        },
+    spec = frictionless_mat_spec(
+        30.0, ply=_plies(45.0, -45.0), discretisation={"chain_diameter_um": 150.0}
     )
     results = read_results(run(spec, tmp_path / "run", scenes=["shear", "shear_negative"]))
     phi0 = math.radians(45.0)

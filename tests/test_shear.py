@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import case_spec, copy_run, tiny_spec
+from conftest import case_spec, copy_run, frictionless_mat_spec, tiny_spec
 
 from ncf2lammps import build_model, run, run_scenes
 from ncf2lammps.analysis.shear import PictureFrame, work_force
@@ -273,17 +273,7 @@ def test_both_senses_of_a_tiny_frictionless_mat(tmp_path):
     /shear_negative (xy = -Lb sin g, ly = Lb cos g, to 1e-3 of a box update); pretensioned
     frictionless straight chains keep their lengths, so |F_N| < 1 % of N0 = 22 N/m in both;
     summary.md gives F_N at 45 deg per sense and their ratio, one figure holds both curves."""
-    spec = tiny_spec(
-        stitch=None,
-        cell={"length_mm": 2.0, "width_mm": 2.0},
-        contact={"friction": 0.0},
-        shear={
-            "final_angle_deg": 46.0,
-            "fibre_pretension_N_m": 22.0,
-            "shear_rate_deg_us": 0.2,
-            "senses": ["positive", "negative"],
-        },
-    )
+    spec = frictionless_mat_spec(46.0)
     results = read_results(run(spec, tmp_path / "run", scenes=["shear", "shear_negative"]))
     for group, sense in (("shear", "positive"), ("shear_negative", "negative")):
         attrs = results[group]["attrs"]
