@@ -167,19 +167,22 @@ def _indicator_lines(results: dict) -> list[str]:
 
 
 def _shear_sense_lines(results: dict) -> list[str]:
-    """F_N at 45 deg of each shear sense run and, with both, their ratio F_N+(45) / F_N-(45)."""
-    forces = {
-        sense: float(results[group]["attrs"]["force_at_45deg_N_per_m"])
-        for sense, group in SENSE_GROUPS.items()
-        if group in results and "force_at_45deg_N_per_m" in results[group]["attrs"]
-    }
-    if not forces:
+    """F_N at 45 deg of each shear sense run (at the final angle of a shear that stops short of
+    45 deg) and, with both, their ratio F_N+ / F_N-."""
+    groups = {s: results[g]["attrs"] for s, g in SENSE_GROUPS.items() if g in results}
+    groups = {s: a for s, a in groups.items() if "force_at_45deg_N_per_m" in a}
+    if not groups:
         return []
-    lines = ["## Shear senses", "", "| sense | F_N at 45 deg (N/m) |", "|---|---|"]
+    final = min(float(a["final_angle_deg"]) for a in groups.values())
+    key, at = "force_at_45deg_N_per_m", "45"
+    if final < 45.0 - 1e-6:
+        key, at = "force_at_final_N_per_m", f"{final:.3g}"
+    forces = {sense: float(a[key]) for sense, a in groups.items()}
+    lines = ["## Shear senses", "", f"| sense | F_N at {at} deg (N/m) |", "|---|---|"]
     lines += [f"| {sense} | {_format(force)} |" for sense, force in forces.items()]
     if len(forces) == 2:
         ratio = forces["positive"] / forces["negative"] if forces["negative"] else float("nan")
-        lines.append(f"| asymmetry F_N+(45) / F_N-(45) | {_format(ratio)} |")
+        lines.append(f"| asymmetry F_N+({at}) / F_N-({at}) | {_format(ratio)} |")
     return [*lines, ""]
 
 
