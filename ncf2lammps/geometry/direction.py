@@ -51,6 +51,12 @@ class PlyDirection:
     chain_length: float
     period: float
 
+    @property
+    def edges_crossed(self) -> int:
+        """Cell edges one chain crosses before it closes, ``a + |b|``: its waviness carries
+        that many times ``mat.waviness_waves_per_cell`` waves."""
+        return self.lattice[0] + abs(self.lattice[1])
+
     def place(self, along: np.ndarray, across: np.ndarray) -> np.ndarray:
         """(..., 2) in-plane positions ``along t + across n`` (um) of strip coordinates."""
         along, across = np.asarray(along, dtype=float), np.asarray(across, dtype=float)

@@ -125,7 +125,7 @@ def model_size(spec) -> ModelSize:
             disc.bead_spacing_ratio,
             chain_fill(spec),
             waviness,
-            mat.waviness_waves_per_cell * (direction.lattice[0] + abs(direction.lattice[1])),
+            mat.waviness_waves_per_cell * direction.edges_crossed,
         )
         drivers[name] = (
             f"areal_weight_g_m2 {ply.areal_weight_g_m2:g}, density_g_cm3 {ply.density_g_cm3:g},"

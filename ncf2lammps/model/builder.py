@@ -230,10 +230,9 @@ def _waviness(spec: FabricSpec, direction: PlyDirection) -> Waviness | None:
     mat = spec.mat
     if mat.waviness_amplitude_um == 0.0:
         return None
-    a, b = direction.lattice
     return Waviness(
         amplitude=mat.waviness_amplitude_um,
-        waves=mat.waviness_waves_per_cell * (a + abs(b)),
+        waves=mat.waviness_waves_per_cell * direction.edges_crossed,
         out_of_plane=mat.waviness_plane == "out-of-plane",
         phase_spread=mat.waviness_phase_spread_deg / 360.0,
         seed=mat.seed,

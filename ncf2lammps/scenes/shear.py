@@ -75,12 +75,11 @@ def picture_frame(spec: FabricSpec, model: Model, sense: str) -> PictureFrame:
     Each frame direction is the ``AtomType.angle_deg`` of the first ply of that requested
     angle; ``half_angle`` is half the angle between the two that contains x (pi/4 for 0/90).
     """
-    fibre_types = [t for t in model.atom_types if t.role == "fibre"]
     requested = spec.shear.frame(spec.plies)
     realised = []
     for angle in requested:
         index = next((i for i, p in enumerate(spec.plies) if p.angle_deg == angle), None)
-        realised.append(angle if index is None else float(fibre_types[index].angle_deg))
+        realised.append(angle if index is None else float(model.ply_angles_deg[index]))
     kind = shear_recipe((realised[0], realised[1]))
     if kind is None:
         raise SpecError(
