@@ -19,6 +19,7 @@ from typing import Any
 
 __all__ = [
     "HEXAGONAL_PACKING",
+    "LOADINGS",
     "PATTERNS",
     "RANDOM_JAMMING",
     "SHEAR_SENSES",
@@ -63,6 +64,8 @@ _CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u2028\u2029]")
 #: Senses of a picture-frame shear (docs/shear.md): positive lengthens the frame diagonal
 #: nearest the machine direction x, negative shortens it.
 SHEAR_SENSES = ("positive", "negative")
+#: How a test scene's loading rate is set (docs/loading.md).
+LOADINGS = ("adaptive", "constant")
 #: Two frame directions (deg) closer than this are one (mirror images, the fibres of 0/90).
 FRAME_TOLERANCE_DEG = 1e-6
 
@@ -458,23 +461,40 @@ class ManufactureSpec:
 
 @dataclass(frozen=True)
 class CompactionSpec:
-    """Compaction scene: plates closing at a constant speed down to a final Vf, or until the
-    pressure first exceeds ``max_pressure_kPa``."""
+    """Compaction scene: plates closing, at a speed the loading controller adapts to the cell
+    (docs/loading.md), until the pressure first exceeds ``max_pressure_kPa`` (``end =
+    "max_pressure"``) or down to the gap of ``final_fvf``."""
 
+    end: str = _f(
+        "max_pressure",
+        choices=("max_pressure", "final_fvf"),
+        source="max_pressure: past the experiment's 18 kPa; final_fvf: the paper's Fig. 5c end",
+    )
     final_fvf: float = _f(0.67, 0.05, 0.9, unit="-", source="paper Fig. 5c")
     plate_speed_m_s: float | None = _f(
         None, 1e-6, 100.0, unit="m/s", source="None: from inertial_number"
     )
-    inertial_number: float = _f(0.05, 1e-5, 1.0, unit="-", source="docs/compaction.md")
-    max_pressure_kPa: float | None = _f(
-        None,
+    inertial_number: float = _f(
+        0.05,
+        1e-5,
+        1.0,
+        unit="-",
+        source="docs/compaction.md; adaptive loading holds it at the plate pressure",
+    )
+    max_pressure_kPa: float = _f(
+        100.0,
         20.0,
         1e7,
         unit="kPa",
-        source="None: stop at final_fvf only; above the 18 kPa reported",
+        source="5.6 x the 18 kPa reported: the smoothed curve and b see past it (docs/compaction.md)",
     )
     reference_pressure_kPa: float = _f(1.0, 1e-3, 1e4, unit="kPa", source="DIN ISO 5084")
-    kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="docs/design.md §8: < 1 %")
+    loading: str = _f(
+        "adaptive", choices=LOADINGS, source="docs/loading.md: rate follows the measured stress"
+    )
+    max_rate_factor: float = _f(
+        16.0, 1.0, 1e4, unit="x inertial-number rate", source="docs/loading.md: the fastest"
+    )
     record_every_um: float = _f(1.0, 1e-3, 1e3, unit="um", source="gap resolution of the curve")
 
 
@@ -486,8 +506,19 @@ class ShearSpec:
     shear_rate_deg_us: float | None = _f(
         None, 1e-9, 1.0, unit="deg/us", source="None: from inertial_number"
     )
-    inertial_number: float = _f(0.025, 1e-5, 1.0, unit="-", source="docs/shear.md")
-    kinetic_ratio_target: float = _f(1e-2, 1e-6, 0.5, unit="-", source="docs/design.md §8: < 1 %")
+    inertial_number: float = _f(
+        0.025,
+        1e-5,
+        1.0,
+        unit="-",
+        source="docs/shear.md; adaptive loading holds it at the shear stress |F_N| / thickness",
+    )
+    loading: str = _f(
+        "adaptive", choices=LOADINGS, source="docs/loading.md: rate follows the measured stress"
+    )
+    max_rate_factor: float = _f(
+        16.0, 1.0, 1e4, unit="x inertial-number rate", source="docs/loading.md: the fastest"
+    )
     fibre_pretension_N_m: float = _f(
         0.0, 0.0, 1000.0, unit="N/m", source="per unit width of each ply; paper frame: 22"
     )

@@ -4,15 +4,17 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import case_spec, copy_run
+from conftest import assert_loading_follows_its_law, case_spec, copy_run
 
-from ncf2lammps import run, run_scenes
+from ncf2lammps import prepare, run, run_scenes
 from ncf2lammps.analysis.compaction import CompactionCurve, smooth
+from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
+from ncf2lammps.scenes import SCENES
 
 #: A fast plate (4x the default inertial number): enough for the curve's shape and the
 #: bookkeeping; the rate dependence is measured separately (docs/compaction.md).
-FAST = {"inertial_number": 0.2, "final_fvf": 0.55}
+FAST = {"inertial_number": 0.2, "final_fvf": 0.55, "end": "final_fvf"}
 
 
 @pytest.fixture(scope="module")
@@ -38,8 +40,30 @@ def test_contract_names_and_lengths(compacted):
     ):
         assert key in group["attrs"]
     assert group["attrs"]["stopped_by"] == "final_fvf"
-    # Without compaction.max_pressure_kPa the deck has no pressure stop.
+    # With end = "final_fvf" the deck has no pressure stop.
     assert "final_pressure" not in (folder / "decks" / "in.compaction.lmp").read_text()
+
+
+@pytest.mark.lammps
+def test_plates_follow_the_adaptive_loading_law(compacted):
+    """The default loading is adaptive: every record's plate speed follows the controller's law
+    from the interval's plate pressure, the gap closes by the integral of the speed, and the
+    speed rises above the inertial-number speed once the cell carries the plates' load."""
+    spec, folder, group = compacted
+    prepared = prepare(spec)
+    control = SCENES["compaction"].deck_values(prepared)["control"]
+    history = read_ave_time(folder / "compaction.history.txt")
+    assert control.adaptive
+    assert_loading_follows_its_law(
+        history["v_gap"],
+        history["v_load_rate"],
+        history["v_load_stress_mean"],
+        control,
+        prepared.time_step.dt,
+        -1,
+    )
+    # Vf 0.55 is well past 18 kPa: the speed has risen with the pressure.
+    assert group["attrs"]["max_plate_speed_m_s"] > 2.0 * group["attrs"]["plate_speed_m_s"]
 
 
 @pytest.mark.lammps
@@ -82,7 +106,9 @@ def test_plates_stop_at_the_first_record_past_max_pressure(
     and 18 kPa agree, and the kinetic ratio, checked from the reference pressure on, is taken
     over a subset of its records: never larger."""
     limit = 40.0
-    spec = case_spec("hpt310-coarse").replace(compaction={**FAST, "max_pressure_kPa": limit})
+    spec = case_spec("hpt310-coarse").replace(
+        compaction={**FAST, "end": "max_pressure", "max_pressure_kPa": limit}
+    )
     folder = copy_run(coarse_manufactured, tmp_path / "run")
     group = read_results(run_scenes(spec, folder, ["compaction"]))["compaction"]
     attrs, pressure = group["attrs"], group["pressure_kPa"]

@@ -6,13 +6,20 @@ import math
 
 import numpy as np
 import pytest
-from conftest import case_spec, copy_run, frictionless_mat_spec, tiny_spec
+from conftest import (
+    assert_loading_follows_its_law,
+    case_spec,
+    copy_run,
+    frictionless_mat_spec,
+    tiny_spec,
+)
 
-from ncf2lammps import build_model, run, run_scenes
+from ncf2lammps import build_model, prepare, run, run_scenes
 from ncf2lammps.analysis.shear import PictureFrame, work_force
 from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
 from ncf2lammps.orchestration.report import write_report
+from ncf2lammps.scenes import SCENES
 from ncf2lammps.scenes.shear import DEFORM_EVERY, shear_rate
 from ncf2lammps.spec import SpecError, shear_recipe
 
@@ -22,6 +29,7 @@ from ncf2lammps.spec import SpecError, shear_recipe
 #: earlier. The default rate reaches 45 deg (docs/study.md, point p00).
 COARSE_TEST_RATE = 0.02125
 COARSE_TEST_ANGLE = 25.0
+COARSE_TEST = {"shear_rate_deg_us": COARSE_TEST_RATE, "final_angle_deg": COARSE_TEST_ANGLE}
 
 
 def _binned(angle_deg, values, width_deg=1.0):
@@ -83,9 +91,7 @@ def test_box_follows_picture_frame_kinematics(frictionless_mat):
 def coarse_sheared(coarse_manufactured, tmp_path_factory):
     """(folder, results) of the manufactured coarse case sheared at the test rate and angle."""
     folder = copy_run(coarse_manufactured, tmp_path_factory.mktemp("shear") / "run")
-    spec = case_spec("hpt310-coarse").replace(
-        shear={"shear_rate_deg_us": COARSE_TEST_RATE, "final_angle_deg": COARSE_TEST_ANGLE}
-    )
+    spec = case_spec("hpt310-coarse").replace(shear=COARSE_TEST)
     run_scenes(spec, folder, ["shear"])
     write_report(folder)
     return folder, read_results(folder / "results.h5")
@@ -104,6 +110,23 @@ def test_results_follow_the_contract(coarse_sheared):
         assert (folder / name).is_file()
     for name in ("shear_force.png", "shear_views_22.5deg.png"):  # views at the paper's angles
         assert (folder / "figures" / name).stat().st_size > 10_000
+
+
+@pytest.mark.lammps
+def test_shear_follows_the_adaptive_loading_law(coarse_sheared):
+    """The default loading is adaptive: every record's shear rate follows the controller's law
+    from the interval's shear stress, and the angle grows by the integral of the rate."""
+    folder, results = coarse_sheared
+    spec = case_spec("hpt310-coarse").replace(shear=COARSE_TEST)
+    prepared = prepare(spec)
+    control = SCENES["shear"].deck_values(prepared)["control"]
+    box = read_ave_time(folder / "shear.box.txt")
+    assert control.adaptive
+    assert_loading_follows_its_law(
+        box["v_g"], box["v_load_rate"], box["v_load_stress_mean"], control, prepared.time_step.dt, 1
+    )
+    attrs = results["shear"]["attrs"]
+    assert attrs["max_shear_rate_deg_us"] >= attrs["shear_rate_deg_us"]
 
 
 @pytest.mark.lammps

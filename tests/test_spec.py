@@ -41,6 +41,16 @@ def test_cases_load_and_resolve_round_trip(case, tmp_path):
         ({"cell": {"length_mm": 5.0}}, "cell.length_mm", "multiple of the repeat"),
         ({"stitch": {"needle_diameter_mm": 4.0}}, "stitch.needle_diameter_mm", "hole spacing"),
         ({"compaction": {"max_pressure_kPa": 10.0}}, "compaction.max_pressure_kPa", "[20, 1e+07]"),
+        ({"compaction": {"end": "gap"}}, "compaction.end", "max_pressure, final_fvf"),
+        ({"compaction": {"loading": "fast"}}, "compaction.loading", "adaptive, constant"),
+        ({"shear": {"loading": 1}}, "shear.loading", "must be a string"),
+        ({"compaction": {"max_rate_factor": 0.5}}, "compaction.max_rate_factor", "[1, 10000]"),
+        ({"shear": {"max_rate_factor": -2.0}}, "shear.max_rate_factor", "[1, 10000]"),
+        (
+            {"compaction": {"kinetic_ratio_target": 0.01}},
+            "compaction.kinetic_ratio_target",
+            "unknown key",
+        ),
         (  # fibre Vf of chains of internal Vf 0.6 is at most 0.6 pi / (2 sqrt 3) = 0.544
             {"discretisation": {"chain_diameter_um": 250.0, "chain_internal_fvf": 0.6}},
             "compaction.final_fvf",

@@ -122,14 +122,16 @@ def _trajectories(directory: Path, scenes) -> list[Path]:
 INDICATORS = (
     ("manufacture", "stitch_tension_error", "tension_tolerance"),
     ("manufacture", "kinetic_ratio", "kinetic_ratio_target"),
-    ("compaction", "max_kinetic_ratio", "kinetic_ratio_target"),
+    ("compaction", "max_kinetic_stress_ratio", "kinetic_stress_limit"),
+    ("compaction", "max_kinetic_ratio", ""),
     ("compaction", "plate_force_imbalance", ""),
     ("compaction", "energy_balance_residual", ""),
     *(
         (scene, key, limit)
         for scene in SENSE_GROUPS.values()
         for key, limit in (
-            ("max_kinetic_ratio", "kinetic_ratio_target"),
+            ("max_kinetic_stress_ratio", "kinetic_stress_limit"),
+            ("max_kinetic_ratio", ""),
             ("work_virial_max_deviation", ""),
             ("energy_balance_residual", ""),
         )

@@ -29,6 +29,7 @@ from ..numerics import Prepared, inertial_strain_rate
 from ..spec import FabricSpec
 from . import stitch
 from .base import Scene
+from .loading import LoadingControl, loading_attrs, loading_control
 
 __all__ = [
     "SCENE",
@@ -73,7 +74,7 @@ def deck_values(run: Prepared) -> dict:
     """Typed values of templates/compaction.lmp.j2 (LAMMPS micro units)."""
     spec, model = run.spec, run.model
     dt = run.time_step.dt
-    speed = plate_speed(spec, model)
+    control = _control(run)
     # The manufactured cell is no thicker than the generated stitch faces plus a bead (a random
     # bed: RANDOM_BED_SWELL times the faces): this bounds the travel; fix halt ends the run at
     # the final gap or pressure.
@@ -82,24 +83,39 @@ def deck_values(run: Prepared) -> dict:
         faces *= RANDOM_BED_SWELL
     start_gap = faces + float(model.diameter.max())
     travel = max(start_gap - _final_gap(spec, model), 0.0)
-    record = max(1, round(spec.compaction.record_every_um / speed / dt))
     return {
         "restart_file": "manufactured.restart" if spec.stitch is not None else None,
         "contact": run.contact,
         "clearance": 1e-3 * float(model.diameter.min()),
-        "plate_speed": speed,
-        "steps": math.ceil(travel / speed / dt),
-        "record_every": record,
+        "control": control,
+        "steps": math.ceil(travel / control.rate / dt),
+        "record_every": control.every,
         "final_gap": _final_gap(spec, model),
         "max_pressure": _max_pressure(spec),
         "stitch": stitch.deck_value(run, "compaction"),
     }
 
 
+def _control(run: Prepared) -> LoadingControl:
+    """The plates' loading rate: from the inertial-number speed, records every
+    ``record_every_um`` of travel at the fastest speed."""
+    settings = run.spec.compaction
+    return loading_control(
+        settings,
+        plate_speed(run.spec, run.model),
+        settings.reference_pressure_kPa,
+        settings.record_every_um,
+        run.time_step.dt,
+    )
+
+
 def _max_pressure(spec: FabricSpec) -> float | None:
-    """Pressure (LAMMPS micro units) at which the plates stop early, or None."""
-    limit = spec.compaction.max_pressure_kPa
-    return None if limit is None else units.to_micro(limit, "kPa")
+    """Pressure (LAMMPS micro units) at which the plates stop (``end = "max_pressure"``), or
+    None (they stop at the final gap only)."""
+    settings = spec.compaction
+    if settings.end != "max_pressure":
+        return None
+    return units.to_micro(settings.max_pressure_kPa, "kPa")
 
 
 def _stopped_by(spec: FabricSpec, pressure: np.ndarray, gap: np.ndarray, final_gap: float) -> str:
@@ -122,6 +138,8 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
     gap = history["v_gap"][keep]
     pressure = history["v_pressure"][keep]
     per_area = model.fibre_volume / model.cell_area
+    speed = history["v_load_rate"][keep]
+    kinetic_ratio = history["v_load_kinetic_ratio"][keep]
     curve = CompactionCurve(
         gap,
         pressure,
@@ -141,10 +159,11 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         "fvf_at_18kPa": units.from_micro(per_area, "mm") / t18 if math.isfinite(t18) else math.nan,
         "stiffening_exponent": curve.stiffening_exponent(*REPORT_PRESSURES),
         "max_kinetic_ratio": curve.max_kinetic_ratio,
-        "kinetic_ratio_target": spec.compaction.kinetic_ratio_target,
+        **loading_attrs(spec.compaction, kinetic_ratio, curve.loaded),
         "plate_force_imbalance": curve.plate_force_imbalance,
         "energy_balance_residual": curve.energy_balance_residual,
         "plate_speed_m_s": units.from_micro(plate_speed(spec, model), "m_s"),
+        "max_plate_speed_m_s": units.from_micro(float(np.max(speed, initial=0.0)), "m_s"),
         "final_fvf": spec.compaction.final_fvf,
         "reached_fvf": float(curve.fvf[-1]) if len(gap) else math.nan,
         "stopped_by": _stopped_by(spec, pressure, gap, final_gap),
@@ -167,6 +186,8 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         "fvf": curve.fvf,
         "force_top_N": units.from_micro(history["v_force_top"][keep], "N"),
         "force_bottom_N": units.from_micro(history["v_force_bottom"][keep], "N"),
+        "plate_speed_m_s": units.from_micro(speed, "m_s"),
+        "kinetic_stress_ratio": kinetic_ratio,
     }
     return attrs, datasets
 

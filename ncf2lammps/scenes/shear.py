@@ -36,6 +36,7 @@ from ..numerics import Prepared, inertial_strain_rate
 from ..spec import FRAME_TOLERANCE_DEG, FabricSpec, SpecError, shear_recipe
 from . import stitch
 from .base import Scene
+from .loading import LoadingControl, loading_attrs, loading_control
 
 __all__ = [
     "NEGATIVE",
@@ -134,31 +135,46 @@ def _pretension_bonds(spec: FabricSpec, model: Model) -> list[tuple[int, float, 
     return out
 
 
-def _stops(spec: FabricSpec, model: Model, dt: float) -> tuple[list[tuple[str, int]], int]:
-    """Segments (label, steps) ending at each snapshot angle, and the steps per record, at
-    time step ``dt`` (us)."""
-    rate = shear_rate(spec, model)
+def _control(run: Prepared) -> LoadingControl:
+    """The shear's loading rate: from the inertial-number rate, records every
+    1 / RECORDS_PER_DEG deg at the fastest rate, in whole box updates."""
+    spec = run.spec
+    return loading_control(
+        spec.shear,
+        shear_rate(spec, run.model),
+        REFERENCE_PRESSURE_KPA,
+        math.radians(1.0 / RECORDS_PER_DEG),
+        run.time_step.dt,
+        DEFORM_EVERY,
+    )
+
+
+def _stops(spec: FabricSpec, control: LoadingControl, dt: float) -> list[tuple[str, float, int]]:
+    """Segments (label, end angle rad, most steps) ending at each snapshot angle and the final
+    angle, at the inertial-number rate of ``control`` (the slowest) and time step ``dt`` (us)."""
     final = spec.shear.final_angle_deg
-    updates = max(1, round(math.radians(1.0 / RECORDS_PER_DEG) / (rate * dt * DEFORM_EVERY)))
-    every = DEFORM_EVERY * updates
     angles = sorted({a for a in SNAPSHOT_DEG if a < final} | {final})
-    ends = [every * max(1, math.ceil(math.radians(a) / (rate * dt * every))) for a in angles]
-    steps = np.diff([0, *ends])
-    labels = [f"{a:g}" for a in angles]
-    return [(label, int(n)) for label, n in zip(labels, steps, strict=True) if n > 0], every
+    every = control.every
+    ends = [
+        every * max(1, math.ceil(math.radians(a) / (control.rate * dt * every))) for a in angles
+    ]
+    return [
+        (f"{a:g}", math.radians(a), int(end - start))
+        for a, start, end in zip(angles, [0, *ends[:-1]], ends, strict=True)
+    ]
 
 
 def deck_values(run: Prepared, sense: str) -> dict:
     """Typed values of templates/shear.lmp.j2 (LAMMPS micro units) for ``sense``."""
     spec, model = run.spec, run.model
-    segments, every = _stops(spec, model, run.time_step.dt)
+    control = _control(run)
     return {
         "frame": picture_frame(spec, model, sense),
         "restart_file": "manufactured.restart" if spec.stitch is not None else None,
         "pretension_bonds": _pretension_bonds(spec, run.simulated),
-        "rate": shear_rate(spec, model),
-        "segments": segments,
-        "history_every": every,
+        "control": control,
+        "segments": _stops(spec, control, run.time_step.dt),
+        "history_every": control.every,
         "deform_every": DEFORM_EVERY,
         "stitch": stitch.deck_value(run, SENSE_GROUPS[sense]),
     }
@@ -194,16 +210,19 @@ def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
         "force_at_45deg_N_per_m": units.from_micro(curve.force_at(math.pi / 4), "N_m"),
         "force_at_final_N_per_m": units.from_micro(curve.force_at(curve.angle[-1]), "N_m"),
         "max_kinetic_ratio": curve.max_kinetic_ratio(LOADED_FRACTION * final),
+        **loading_attrs(
+            spec.shear, box["v_load_kinetic_ratio"], box["v_g"] >= LOADED_FRACTION * final
+        ),
         "energy_balance_residual": energy_balance_residual(
             curve.work, stress["v_kinetic"], stress["v_potential"]
         ),
-        "kinetic_ratio_target": spec.shear.kinetic_ratio_target,
         "work_virial_max_deviation": float(np.max(np.abs(work[loaded] / force[loaded] - 1))),
         "shear_rate_deg_us": math.degrees(shear_rate(spec, model)),
+        "max_shear_rate_deg_us": math.degrees(float(np.max(box["v_load_rate"]))),
         "final_angle_deg": math.degrees(curve.angle[-1]),
         "fibre_pretension_N_m": spec.shear.fibre_pretension_N_m,
     }
-    segments, _ = _stops(spec, model, run.time_step.dt)
+    segments = _stops(spec, _control(run), run.time_step.dt)
     stitch_attrs, stitch_datasets = stitch.collect(
         run,
         directory,
@@ -220,6 +239,8 @@ def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
         "force_work_N_per_m": work,
         "work_J": units.from_micro(curve.work, "J"),
         "kinetic_ratio": curve.kinetic_ratio,
+        "kinetic_stress_ratio": box["v_load_kinetic_ratio"][1:],
+        "shear_rate_deg_us": np.degrees(box["v_load_rate"][1:]),
     }
     return attrs, datasets
 

@@ -1,0 +1,109 @@
+"""The loading rate of the test scenes (compaction, shear): constant, or adapted to the stress
+the cell carries (templates/loading.lmp.j2, docs/loading.md).
+
+A test scene's rate r_I comes from its inertial number ``I = r d sqrt(rho / S_ref)`` at the
+reference pressure S_ref (1 kPa, DIN ISO 5084). Adaptive loading holds that inertial number at
+the stress S the test measures, averaged over each control interval (compaction: the plate
+pressure; shear: the shear stress |F_N| / thickness), floored at S_ref: after each interval
+``rate' = min(rate clamp(r_I sqrt(S / S_ref) / rate, DOWN, UP), max_rate_factor r_I)``. The
+rate never falls below r_I, the rate the constant loading keeps throughout.
+
+The quasi-static check of both is the kinetic stress ratio of each interval, the beads' kinetic
+energy density ``2 K / 3 V`` over S: the share of the stress that is inertia, below
+:data:`KINETIC_STRESS_LIMIT` (docs/design.md §8: 1 %).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import units
+from ..spec import CompactionSpec, ShearSpec
+
+__all__ = [
+    "DOWN",
+    "KINETIC_STRESS_LIMIT",
+    "SAMPLES",
+    "UP",
+    "LoadingControl",
+    "control_interval",
+    "loading_attrs",
+    "loading_control",
+]
+
+#: Largest rise of the rate in one control interval: ten intervals to double it, so that the
+#: cell's response keeps up with the rate it follows.
+UP = 2.0**0.1
+#: Largest fall of the rate in one control interval: a drop of the stress (a slip, a lock giving
+#: way, a stitch breaking) halves it at once.
+DOWN = 0.5
+#: Samples of the stress and the kinetic stress in each control interval.
+SAMPLES = 10
+#: The quasi-static check: the kinetic stress ratio of every interval of the measured range is
+#: below 1 % (docs/design.md §8).
+KINETIC_STRESS_LIMIT = 1e-2
+
+
+@dataclass(frozen=True)
+class LoadingControl:
+    """Typed deck value of templates/loading.lmp.j2 (LAMMPS micro units).
+
+    Attributes: ``adaptive``; ``rate`` (r_I, the inertial-number or given rate: um/us of plate
+    travel or rad/us of shear); ``rate_max`` (the adaptive rate's bound, same unit); ``every``
+    (steps of a control interval, a multiple of ``samples``); ``floor`` (S_ref, kPa);
+    ``samples``; ``up``, ``down`` (bounds of one update's factor).
+    """
+
+    adaptive: bool
+    rate: float
+    rate_max: float
+    every: int
+    floor: float
+    samples: int = SAMPLES
+    up: float = UP
+    down: float = DOWN
+
+
+def control_interval(resolution: float, fastest: float, dt: float, multiple: int = 1) -> int:
+    """Steps of a control and record interval: the coordinate advances by at most
+    ``resolution`` (its unit) per interval at the ``fastest`` rate (unit/us), at time step
+    ``dt`` (us); a multiple of ``multiple`` and of :data:`SAMPLES`."""
+    step = math.lcm(multiple, SAMPLES)
+    return step * max(1, math.floor(resolution / (fastest * dt * step)))
+
+
+def loading_control(
+    settings: CompactionSpec | ShearSpec,
+    rate: float,
+    floor_kPa: float,
+    resolution: float,
+    dt: float,
+    multiple: int = 1,
+) -> LoadingControl:
+    """The loading of a scene with ``settings`` whose rate at the reference pressure
+    ``floor_kPa`` is ``rate``: records every ``resolution`` of the coordinate at the fastest
+    rate, at time step ``dt`` (us), in intervals that are a multiple of ``multiple`` steps."""
+    adaptive = settings.loading == "adaptive"
+    fastest = rate * settings.max_rate_factor if adaptive else rate
+    return LoadingControl(
+        adaptive=adaptive,
+        rate=rate,
+        rate_max=fastest,
+        every=control_interval(resolution, fastest, dt, multiple),
+        floor=units.to_micro(floor_kPa, "kPa"),
+    )
+
+
+def loading_attrs(settings: CompactionSpec | ShearSpec, ratio: np.ndarray, measured) -> dict:
+    """The loading's attributes of a test scene: ``loading`` and its quasi-static check,
+    ``max_kinetic_stress_ratio`` (the largest interval's kinetic stress ratio ``ratio`` (N,)
+    over the ``measured`` records, (N,) bool) against ``kinetic_stress_limit``."""
+    largest = float(np.max(ratio[measured])) if np.any(measured) else math.nan
+    return {
+        "loading": settings.loading,
+        "max_kinetic_stress_ratio": largest,
+        "kinetic_stress_limit": KINETIC_STRESS_LIMIT,
+    }
