@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import sys
 import tomllib
@@ -110,12 +111,26 @@ def parse_vary(text: str) -> tuple[str, list]:
             "--vary", text, f"must be KNOB=V1,V2,... with KNOB one of {', '.join(KNOBS)}"
         )
     try:
-        parsed = [tomllib.loads(f"v = {v.strip()}")["v"] for v in values.split(",") if v.strip()]
+        parsed = [_knob_value(v.strip()) for v in values.split(",") if v.strip()]
     except tomllib.TOMLDecodeError:
-        raise SpecError("--vary", text, "values must be numbers separated by commas") from None
+        raise SpecError(
+            "--vary", text, "values must be numbers or words (a choice) separated by commas"
+        ) from None
     if not parsed:
         raise SpecError("--vary", text, "needs at least one value")
     return knob, parsed
+
+
+def _knob_value(text: str):
+    """One value of ``--vary``: a TOML scalar, or a bare word (a choice, e.g. ``adaptive``)."""
+    if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_-]*", text) and text not in (
+        "true",
+        "false",
+        "inf",
+        "nan",
+    ):
+        return text
+    return tomllib.loads(f"v = {text}")["v"]
 
 
 @dataclass(frozen=True)
