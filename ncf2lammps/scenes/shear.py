@@ -161,6 +161,7 @@ def _stops(spec: FabricSpec, control: LoadingControl, dt: float) -> list[tuple[s
     return [
         (f"{a:g}", math.radians(a), int(end - start))
         for a, start, end in zip(angles, [0, *ends[:-1]], ends, strict=True)
+        if end > start
     ]
 
 
