@@ -19,6 +19,7 @@ from typing import Any
 
 __all__ = [
     "HEXAGONAL_PACKING",
+    "KINETIC_STRESS_LIMIT",
     "LOADINGS",
     "PATTERNS",
     "RANDOM_JAMMING",
@@ -66,6 +67,9 @@ _CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u2028\u2029]")
 SHEAR_SENSES = ("positive", "negative")
 #: How a test scene's loading rate is set (docs/loading.md).
 LOADINGS = ("adaptive", "constant")
+#: Largest kinetic stress ratio (2 K / 3 V over the measured stress) of a quasi-static test:
+#: inertia below 1 % of the stress (docs/design.md §8).
+KINETIC_STRESS_LIMIT = 1e-2
 #: Two frame directions (deg) closer than this are one (mirror images, the fibres of 0/90).
 FRAME_TOLERANCE_DEG = 1e-6
 
@@ -495,6 +499,14 @@ class CompactionSpec:
     max_rate_factor: float = _f(
         16.0, 1.0, 1e4, unit="x inertial-number rate", source="docs/loading.md: the fastest"
     )
+    kinetic_stress_target: float = _f(
+        KINETIC_STRESS_LIMIT / 4.0,
+        1e-6,
+        KINETIC_STRESS_LIMIT,
+        unit="-",
+        source="kinetic stress ratio above which adaptive loading brakes: a quarter of the 1 %"
+        " limit, so that a burst within one interval stays below it (docs/loading.md)",
+    )
     record_every_um: float = _f(1.0, 1e-3, 1e3, unit="um", source="gap resolution of the curve")
 
 
@@ -518,6 +530,14 @@ class ShearSpec:
     )
     max_rate_factor: float = _f(
         16.0, 1.0, 1e4, unit="x inertial-number rate", source="docs/loading.md: the fastest"
+    )
+    kinetic_stress_target: float = _f(
+        KINETIC_STRESS_LIMIT / 4.0,
+        1e-6,
+        KINETIC_STRESS_LIMIT,
+        unit="-",
+        source="kinetic stress ratio above which adaptive loading brakes: a quarter of the 1 %"
+        " limit, so that a burst within one interval stays below it (docs/loading.md)",
     )
     fibre_pretension_N_m: float = _f(
         0.0, 0.0, 1000.0, unit="N/m", source="per unit width of each ply; paper frame: 22"

@@ -185,34 +185,35 @@ def copy_run(folder: Path, destination: Path) -> Path:
     return destination
 
 
-def assert_loading_follows_its_law(coordinate, rate, stress, control, dt: float, sign: int):
+def assert_loading_follows_its_law(records: dict, coordinate: str, control, dt: float, sign: int):
     """The recorded loading of a test scene follows templates/loading.lmp.j2.
 
-    Records (N,) at the end of each control interval: the loaded ``coordinate``, the ``rate``
-    and the interval's mean ``stress`` S (floored at the reference pressure); ``control`` the
-    scene's LoadingControl, ``dt`` (us), ``sign`` the direction the rate moves the coordinate.
-    Laws, to rounding:
-    - adaptive: the rate after each interval is ``min(r clamp(r_I sqrt(S / S_ref) / r, down,
-      up), r_max)`` of the rate r before it (the inertial number held at S), never below r_I;
-      constant: it stays r_I;
+    ``records`` (read_ave_time of the scene's records at the end of each control interval) hold
+    the loaded ``coordinate`` column, the rate ``v_load_rate``, the interval's mean stress S
+    ``v_load_stress_mean`` (floored at the reference pressure) and kinetic stress ratio Q
+    ``v_load_kinetic_ratio``; ``control`` is the scene's LoadingControl, ``dt`` (us), ``sign``
+    the direction the rate moves the coordinate. Laws, to rounding:
+    - adaptive: the rate after each interval is ``clamp(r clamp(min(r_I sqrt(S / S_ref) / r,
+      sqrt(Q* / Q)), down, up), r_I, r_max)`` of the rate r before it; constant: it stays r_I;
     - the coordinate advances every step by the rate of that step: an interval of ``every``
       steps moves it by ``dt ((every - 1) r_before + r_after)`` (the rate changes at the
       interval's last step, before that step's advance).
     """
-    rate, stress = np.asarray(rate), np.asarray(stress)
+    rate = records["v_load_rate"]
+    stress, ratio = records["v_load_stress_mean"][1:], records["v_load_kinetic_ratio"][1:]
     before, after = rate[:-1], rate[1:]
     if control.adaptive:
-        gain = control.rate * np.sqrt(stress[1:] / control.floor) / before
-        expected = np.minimum(before * np.clip(gain, control.down, control.up), control.rate_max)
+        hold = control.rate * np.sqrt(stress / control.floor) / before
+        brake = np.sqrt(control.kinetic_target / (ratio + 1e-30))
+        gain = np.clip(np.minimum(hold, brake), control.down, control.up)
+        expected = np.clip(before * gain, control.rate, control.rate_max)
     else:
         expected = np.full_like(before, control.rate)
     np.testing.assert_allclose(after, expected, rtol=1e-9)
-    assert np.all(rate >= control.rate * (1 - 1e-12))
-    assert np.all(rate <= control.rate_max * (1 + 1e-12))
-    travel = sign * np.diff(coordinate)
+    travel = sign * np.diff(records[coordinate])
     np.testing.assert_allclose(
         travel,
         dt * ((control.every - 1) * before + after),
         rtol=1e-6,
-        atol=1e-12 * np.abs(coordinate).max(),
+        atol=1e-12 * np.abs(records[coordinate]).max(),
     )

@@ -54,14 +54,7 @@ def test_plates_follow_the_adaptive_loading_law(compacted):
     control = SCENES["compaction"].deck_values(prepared)["control"]
     history = read_ave_time(folder / "compaction.history.txt")
     assert control.adaptive
-    assert_loading_follows_its_law(
-        history["v_gap"],
-        history["v_load_rate"],
-        history["v_load_stress_mean"],
-        control,
-        prepared.time_step.dt,
-        -1,
-    )
+    assert_loading_follows_its_law(history, "v_gap", control, prepared.time_step.dt, -1)
     # Vf 0.55 is well past 18 kPa: the speed has risen with the pressure.
     assert group["attrs"]["max_plate_speed_m_s"] > 2.0 * group["attrs"]["plate_speed_m_s"]
 
