@@ -302,6 +302,10 @@ def _point_row(directory: Path, scenes: Sequence[str]) -> dict:
     row["steps"] = int(sum(g["steps"] for g in groups))
     ratios = [g.get("max_kinetic_ratio", g.get("kinetic_ratio", np.nan)) for g in groups]
     row["max_kinetic_ratio"] = float(np.nanmax(ratios))
+    stresses = [g.get("max_kinetic_stress_ratio", np.nan) for g in groups]
+    row["max_kinetic_stress_ratio"] = (
+        float(np.nanmax(stresses)) if np.any(np.isfinite(stresses)) else np.nan
+    )
     return row
 
 
@@ -385,6 +389,7 @@ def _table(points, reference: int, rows: list[dict], scenes) -> _Table:
     columns["wall_s"] = list(wall)
     columns["steps"] = [r.get("steps", 0) for r in rows]
     columns["max_kinetic_ratio"] = [r.get("max_kinetic_ratio", np.nan) for r in rows]
+    columns["max_kinetic_stress_ratio"] = [r.get("max_kinetic_stress_ratio", np.nan) for r in rows]
     columns["pareto"] = [bool(f) for f in front]
     columns["reference"] = [i == reference for i in range(len(rows))]
     return _Table(outputs, knobs, values, errors, worst, wall, front, columns)
@@ -406,14 +411,14 @@ def _markdown(spec, table: _Table, rows, reference: int, scenes, tolerance: floa
         + " | ".join(knobs)
         + " | "
         + " | ".join(label for _, label in outputs)
-        + " | max error | wall (s) | steps | max KE ratio | Pareto |",
-        "|" + "---|" * (len(knobs) + len(outputs) + 6),
+        + " | max error | wall (s) | steps | max KE ratio | max kinetic stress | Pareto |",
+        "|" + "---|" * (len(knobs) + len(outputs) + 7),
     ]
     for i, row in enumerate(rows):
         cells = [row["point"] + (" (ref)" if i == reference else "")]
         cells += [f"{row[k]}" for k in knobs]
         if row["status"].startswith("failed"):
-            cells += [row["status"]] + [""] * (len(outputs) + 4)
+            cells += [row["status"]] + [""] * (len(outputs) + 5)
         else:
             cells += [f"{values[i, j]:.5g} ({errors[i, j]:.2%})" for j in range(len(outputs))]
             cells += [
@@ -421,6 +426,7 @@ def _markdown(spec, table: _Table, rows, reference: int, scenes, tolerance: floa
                 f"{wall[i]:.0f}",
                 f"{row['steps']}",
                 f"{row['max_kinetic_ratio']:.2g}",
+                f"{row.get('max_kinetic_stress_ratio', np.nan):.2g}",
                 "yes" if table.front[i] else "",
             ]
         lines.append("| " + " | ".join(cells) + " |")
