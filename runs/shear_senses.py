@@ -51,6 +51,8 @@ for factor in args.rates:
                 "force_at_45deg_N_per_m",
                 "work_virial_max_deviation",
                 "max_kinetic_ratio",
+                "max_kinetic_stress_ratio",
+                "max_shear_rate_deg_us",
                 "steps",
                 "wall_s",
                 "stitch_tension_max_N",
