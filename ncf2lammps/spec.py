@@ -465,7 +465,7 @@ class ManufactureSpec:
 
 @dataclass(frozen=True)
 class CompactionSpec:
-    """Compaction scene: plates closing, at a speed the loading controller adapts to the cell
+    """Compaction scene: plates closing, at a speed the loading adapts to the cell by default
     (docs/loading.md), until the pressure first exceeds ``max_pressure_kPa`` (``end =
     "max_pressure"``) or down to the gap of ``final_fvf``."""
 
@@ -526,7 +526,10 @@ class ShearSpec:
         source="docs/shear.md; adaptive loading holds it at the shear stress |F_N| / thickness",
     )
     loading: str = _f(
-        "adaptive", choices=LOADINGS, source="docs/loading.md: rate follows the measured stress"
+        "constant",
+        choices=LOADINGS,
+        source="docs/loading.md: on the coarse HPT 310 cell adaptive shear moved F_N(45) by"
+        " -15 to +14 %",
     )
     max_rate_factor: float = _f(
         16.0, 1.0, 1e4, unit="x inertial-number rate", source="docs/loading.md: the fastest"

@@ -35,10 +35,14 @@ def test_control_interval_resolves_the_fastest_rate(multiple):
 @pytest.mark.parametrize("scene, coordinate", [("compaction", "plate_drop"), ("shear", "g")])
 def test_constant_loading_renders_no_controller(scene, coordinate):
     """Adaptive decks hold the rate controller, bounded at max_rate_factor times the
-    inertial-number rate; constant decks only the integrator of the coordinate."""
-    adaptive = prepare(case_spec("hpt310-coarse"))
-    table = {"loading": "constant"}
-    constant = prepare(case_spec("hpt310-coarse").replace(**{scene: table}))
+    inertial-number rate; constant decks only the integrator of the coordinate. Compaction is
+    adaptive and shear constant by default."""
+    default = prepare(case_spec("hpt310-coarse"))
+    assert SCENES[scene].deck_values(default)["control"].adaptive is (scene == "compaction")
+    adaptive, constant = (
+        prepare(case_spec("hpt310-coarse").replace(**{scene: {"loading": kind}}))
+        for kind in ("adaptive", "constant")
+    )
     control = SCENES[scene].deck_values(adaptive)["control"]
     assert control.adaptive and control.rate_max == pytest.approx(16.0 * control.rate)
     integrator = f"fix             load_{coordinate} all controller 1 "

@@ -158,8 +158,10 @@ def _stops(spec: FabricSpec, control: LoadingControl, dt: float) -> list[tuple[s
     ends = [
         every * max(1, math.ceil(math.radians(a) / (control.rate * dt * every))) for a in angles
     ]
+    # Each run halts at the first record whose angle is the end's to rounding: the angle is a
+    # sum of per-step increments, so a record meant to end on it may fall short by an ulp.
     return [
-        (f"{a:g}", math.radians(a), int(end - start))
+        (f"{a:g}", math.radians(a) * (1.0 - 1e-9), int(end - start))
         for a, start, end in zip(angles, [0, *ends[:-1]], ends, strict=True)
         if end > start
     ]
