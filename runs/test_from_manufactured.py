@@ -19,12 +19,20 @@ parser.add_argument("manufactured", type=Path, help="folder of `run --scene manu
 parser.add_argument("output", type=Path, help="new folder (a copy of the manufactured one)")
 parser.add_argument("scene", choices=("compaction", "shear"))
 parser.add_argument("--inertial-number", type=float, default=None, help="default: the spec's")
+parser.add_argument(
+    "--kinetic-stress-target",
+    type=float,
+    default=None,
+    help="default: the spec's (docs/loading.md)",
+)
 parser.add_argument("--np", type=int, default=1, help="MPI ranks")
 args = parser.parse_args()
 
 spec = n2l.load_spec(args.spec)
 if args.inertial_number is not None:
     spec = spec.replace(**{args.scene: {"inertial_number": args.inertial_number}})
+if args.kinetic_stress_target is not None:
+    spec = spec.replace(**{args.scene: {"kinetic_stress_target": args.kinetic_stress_target}})
 if args.output.exists():
     parser.error(f"output = {args.output}: exists; choose a new folder")
 shutil.copytree(args.manufactured, args.output)
