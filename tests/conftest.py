@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import fcntl
 import functools
 import os
+import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -161,7 +164,36 @@ def case_models():
     return _ONCE["case_models"]
 
 
-@pytest.fixture(scope="module")
+def shared_folder(tmp_path_factory, name: str, make: Callable[[Path], object]) -> Path:
+    """Folder ``name`` of this test run, made once by ``make(folder)`` and shared by every test
+    and every pytest-xdist worker that asks for it.
+
+    The first process to ask makes it while it holds a lock; the others wait for it and then
+    reuse it (read it, or copy it with :func:`copy_run`; never write into it). A folder whose
+    making failed is not made again: later askers fail with the first error's message.
+    """
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        root = root.parent  # the workers' base folders sit side by side in the run's own one
+    root = root / "shared"
+    root.mkdir(exist_ok=True)
+    folder, done, failed = (root / name, root / f"{name}.done", root / f"{name}.failed")
+    with open(root / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if failed.exists():
+            raise RuntimeError(f"{name}: making it failed before: {failed.read_text()}")
+        if not done.exists():
+            shutil.rmtree(folder, ignore_errors=True)
+            try:
+                make(folder)
+            except BaseException as err:
+                failed.write_text(f"{type(err).__name__}: {err}")
+                raise
+            done.touch()
+    return folder
+
+
+@pytest.fixture(scope="session")
 def coarse_manufactured(tmp_path_factory):
     """Folder of the coarse case after ``run --scene manufacture`` (run once per test run).
 
@@ -170,16 +202,13 @@ def coarse_manufactured(tmp_path_factory):
     """
     from ncf2lammps import run
 
-    if "coarse_manufactured" not in _ONCE:
-        folder = tmp_path_factory.mktemp("coarse") / "run"
+    def manufacture(folder):
         run(case_spec("hpt310-coarse"), folder, scenes=["manufacture"])
-        _ONCE["coarse_manufactured"] = folder
-    return _ONCE["coarse_manufactured"]
+
+    return shared_folder(tmp_path_factory, "coarse-manufactured", manufacture)
 
 
 def copy_run(folder: Path, destination: Path) -> Path:
     """A copy of a run folder to run more scenes in."""
-    import shutil
-
     shutil.copytree(folder, destination)
     return destination
