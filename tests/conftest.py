@@ -44,6 +44,52 @@ def _needs_marker(start):
 
 Engine.__enter__ = _needs_marker(Engine.__enter__)
 orchestration_run._execute = _needs_marker(orchestration_run._execute)
+
+
+#: Test files that go to the pytest-xdist workers first, in this order (``--dist loadfile``: one
+#: worker runs a file's tests, in sequence; ``--no-loadscope-reorder``: files go out in
+#: collection order): the longest chains of LAMMPS runs start at once and the many short tests
+#: fill in around them.
+FIRST_FILES = (
+    "tests/test_hpc.py",  # first test: the bundle, which needs no shared manufactured cell
+    "tests/test_compaction.py",  # first test: makes the shared manufactured cell
+    "tests/test_study.py",
+    "tests/test_stability.py",
+    "tests/test_shear.py",
+    "tests/validation/test_validation_cases.py",
+    "tests/test_cli.py",
+    "tests/test_stitch_rupture.py",
+    "tests/test_io_engine.py",
+    "tests/test_golden_decks.py",
+    "tests/test_doors.py",
+    "tests/test_multiaxial.py",
+    "tests/test_contact_walls.py",
+)
+
+
+def pytest_collection_modifyitems(config, items):
+    """Under pytest-xdist the tests of FIRST_FILES come first; alone, the order is the files'."""
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        rank = {name: i for i, name in enumerate(FIRST_FILES)}
+        items.sort(key=lambda item: rank.get(item.nodeid.split("::")[0], len(FIRST_FILES)))
+
+
+#: Lines the pytest-xdist workers left for the closing summary (``summary_lines`` of their
+#: ``workeroutput``, e.g. the doors' tally), gathered by the controller.
+_SUMMARY_LINES: list[str] = []
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    """pytest-xdist controller: a worker finished; keep the lines it left for the summary."""
+    _SUMMARY_LINES.extend(getattr(node, "workeroutput", {}).get("summary_lines", []))
+
+
+def pytest_terminal_summary(terminalreporter):
+    for line in _SUMMARY_LINES:
+        terminalreporter.write_line(line)
+
+
 CASES = (
     "hpt310",
     "hpt310-coarse",

@@ -66,9 +66,10 @@ def reference(coarse_manufactured, tmp_path_factory):
 
 
 @pytest.mark.lammps
-def test_bundle_runs_under_mpiexec_lmp_and_its_report_matches_python(reference, tmp_path):
+def test_bundle_runs_under_mpiexec_lmp_and_its_report_matches_python(request, tmp_path):
     """t@1 kPa and F_N(15-20 deg) of the bundle on 2 ranks (its own manufacture included) within
-    2 % of the Python-driven run on 1 rank."""
+    2 % of the Python-driven run on 1 rank (made once the bundle is done: under pytest-xdist the
+    other worker makes the shared manufactured cell meanwhile)."""
     write_spec(tmp_path / "spec.toml", fast_spec())
     bundle = tmp_path / "bundle"
     out = cli("export", str(tmp_path / "spec.toml"), "-o", str(bundle), "--np", "2")
@@ -88,6 +89,7 @@ def test_bundle_runs_under_mpiexec_lmp_and_its_report_matches_python(reference, 
     assert out.returncode == 0, out.stderr
     results = read_results(bundle / "results.h5")
     assert bool(results["attrs"]["complete"]) and results["attrs"]["mpi_ranks"] == 2
+    reference = request.getfixturevalue("reference")
     for got, want in zip(figures(results), figures(reference), strict=True):
         assert got == pytest.approx(want, rel=0.02)
     assert (bundle / "figures" / "compaction_trajectory.png").is_file()
