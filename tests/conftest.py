@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import fcntl
 import functools
 import os
+import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -41,6 +44,52 @@ def _needs_marker(start):
 
 Engine.__enter__ = _needs_marker(Engine.__enter__)
 orchestration_run._execute = _needs_marker(orchestration_run._execute)
+
+
+#: Test files that go to the pytest-xdist workers first, in this order (``--dist loadfile``: one
+#: worker runs a file's tests, in sequence; ``--no-loadscope-reorder``: files go out in
+#: collection order): the longest chains of LAMMPS runs start at once and the many short tests
+#: fill in around them.
+FIRST_FILES = (
+    "tests/test_hpc.py",  # first test: the bundle, which needs no shared manufactured cell
+    "tests/test_compaction.py",  # first test: makes the shared manufactured cell
+    "tests/test_study.py",
+    "tests/test_stability.py",
+    "tests/test_shear.py",
+    "tests/validation/test_validation_cases.py",
+    "tests/test_cli.py",
+    "tests/test_stitch_rupture.py",
+    "tests/test_io_engine.py",
+    "tests/test_golden_decks.py",
+    "tests/test_doors.py",
+    "tests/test_multiaxial.py",
+    "tests/test_contact_walls.py",
+)
+
+
+def pytest_collection_modifyitems(config, items):
+    """Under pytest-xdist the tests of FIRST_FILES come first; alone, the order is the files'."""
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        rank = {name: i for i, name in enumerate(FIRST_FILES)}
+        items.sort(key=lambda item: rank.get(item.nodeid.split("::")[0], len(FIRST_FILES)))
+
+
+#: Lines the pytest-xdist workers left for the closing summary (``summary_lines`` of their
+#: ``workeroutput``, e.g. the doors' tally), gathered by the controller.
+_SUMMARY_LINES: list[str] = []
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    """pytest-xdist controller: a worker finished; keep the lines it left for the summary."""
+    _SUMMARY_LINES.extend(getattr(node, "workeroutput", {}).get("summary_lines", []))
+
+
+def pytest_terminal_summary(terminalreporter):
+    for line in _SUMMARY_LINES:
+        terminalreporter.write_line(line)
+
+
 CASES = (
     "hpt310",
     "hpt310-coarse",
@@ -161,7 +210,36 @@ def case_models():
     return _ONCE["case_models"]
 
 
-@pytest.fixture(scope="module")
+def shared_folder(tmp_path_factory, name: str, make: Callable[[Path], object]) -> Path:
+    """Folder ``name`` of this test run, made once by ``make(folder)`` and shared by every test
+    and every pytest-xdist worker that asks for it.
+
+    The first process to ask makes it while it holds a lock; the others wait for it and then
+    reuse it (read it, or copy it with :func:`copy_run`; never write into it). A folder whose
+    making failed is not made again: later askers fail with the first error's message.
+    """
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        root = root.parent  # the workers' base folders sit side by side in the run's own one
+    root = root / "shared"
+    root.mkdir(exist_ok=True)
+    folder, done, failed = (root / name, root / f"{name}.done", root / f"{name}.failed")
+    with open(root / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if failed.exists():
+            raise RuntimeError(f"{name}: making it failed before: {failed.read_text()}")
+        if not done.exists():
+            shutil.rmtree(folder, ignore_errors=True)
+            try:
+                make(folder)
+            except BaseException as err:
+                failed.write_text(f"{type(err).__name__}: {err}")
+                raise
+            done.touch()
+    return folder
+
+
+@pytest.fixture(scope="session")
 def coarse_manufactured(tmp_path_factory):
     """Folder of the coarse case after ``run --scene manufacture`` (run once per test run).
 
@@ -170,17 +248,14 @@ def coarse_manufactured(tmp_path_factory):
     """
     from ncf2lammps import run
 
-    if "coarse_manufactured" not in _ONCE:
-        folder = tmp_path_factory.mktemp("coarse") / "run"
+    def manufacture(folder):
         run(case_spec("hpt310-coarse"), folder, scenes=["manufacture"])
-        _ONCE["coarse_manufactured"] = folder
-    return _ONCE["coarse_manufactured"]
+
+    return shared_folder(tmp_path_factory, "coarse-manufactured", manufacture)
 
 
 def copy_run(folder: Path, destination: Path) -> Path:
     """A copy of a run folder to run more scenes in."""
-    import shutil
-
     shutil.copytree(folder, destination)
     return destination
 

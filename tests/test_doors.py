@@ -36,7 +36,8 @@ TALLY: Counter = Counter()
 
 @pytest.fixture(scope="module", autouse=True)
 def tally(request):
-    """Print the tally at the end of the module; no door may crash."""
+    """Print the tally at the end of the module (under pytest-xdist, in the closing summary); no
+    door may crash."""
     yield
     line = (
         f"doors: {sum(TALLY.values())} cases, {TALLY['refused']} refused, {TALLY['succeeded']}"
@@ -44,7 +45,9 @@ def tally(request):
     )
     plugins = request.config.pluginmanager
     reporter, capture = plugins.get_plugin("terminalreporter"), plugins.get_plugin("capturemanager")
-    if reporter is not None and capture is not None:
+    if hasattr(request.config, "workeroutput"):  # a pytest-xdist worker: the controller prints it
+        request.config.workeroutput.setdefault("summary_lines", []).append(line)
+    elif reporter is not None and capture is not None:
         with capture.global_and_fixture_disabled():  # past the capture, like capsys.disabled()
             reporter.write_line("")
             reporter.write_line(line)

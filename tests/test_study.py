@@ -97,7 +97,10 @@ def test_bad_knob_or_value_is_one_line_exit_2(tmp_path):
 
 @pytest.fixture(scope="module")
 def compaction_study(tmp_path_factory):
-    spec = tiny_spec(compaction={"final_fvf": 0.5})
+    """A two-point study of the compaction rate on the tiny cell. The plates stop at Vf 0.35,
+    past 18 kPa (the tiny cell passes it near Vf 0.29): both reported thicknesses are on the
+    curve, and the test of a changed compaction table runs again to Vf 0.33, a wider gap."""
+    spec = tiny_spec(compaction={"final_fvf": 0.35})
     folder = tmp_path_factory.mktemp("study") / "study"
     study(spec, folder, [("compaction.inertial_number", [0.8, 0.4])], ["compaction"])
     return spec, folder
@@ -157,11 +160,11 @@ def test_study_keeps_a_folder_manufacture_and_reruns_only_changed_scenes(
         assert new["thickness_at_1kPa_mm"] == old["thickness_at_1kPa_mm"]
         assert new["steps"] == old["steps"]
 
-    study(spec.replace(compaction={"final_fvf": 0.45}), folder, vary, ["compaction"])
+    study(spec.replace(compaction={"final_fvf": 0.33}), folder, vary, ["compaction"])
     rerun = list(csv.DictReader(open(folder / "study.csv")))
     assert [r["status"] for r in rerun] == ["ok (reused manufacture)"] * 2
     for old, new in zip(before, rerun, strict=True):
         assert new["stitch_tension_N"] == old["stitch_tension_N"]
         assert int(new["steps"]) < int(old["steps"])  # the plates stop at a wider gap
     stored = read_results(folder / "points" / "p00" / "results.h5")["attrs"]["spec_toml"]
-    assert "final_fvf = 0.45" in (stored.decode() if isinstance(stored, bytes) else stored)
+    assert "final_fvf = 0.33" in (stored.decode() if isinstance(stored, bytes) else stored)
