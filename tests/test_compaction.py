@@ -12,9 +12,9 @@ from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
 from ncf2lammps.scenes import SCENES
 
-#: A fast plate (4x the default inertial number): enough for the curve's shape and the
-#: bookkeeping; the rate dependence is measured separately (docs/compaction.md).
-FAST = {"inertial_number": 0.2, "final_fvf": 0.55, "end": "final_fvf"}
+#: The default (adaptive) plates to Vf 0.55, past the default end: enough for the curve's shape
+#: and the bookkeeping; the rate dependence is measured separately (docs/compaction.md).
+FAST = {"final_fvf": 0.55, "end": "final_fvf"}
 
 
 @pytest.fixture(scope="module")
@@ -61,10 +61,14 @@ def test_plates_follow_the_adaptive_loading_law(compacted):
 
 @pytest.mark.lammps
 def test_pressure_rises_monotonically_after_smoothing(compacted):
-    """Closing plates on a frictional granular layer: the smoothed pressure never drops by more
-    than 10 % of the running maximum once it exceeds 1 kPa (dynamic ripple aside)."""
+    """Closing plates on a frictional granular layer: the pressure smoothed over 15 um of travel
+    never drops by more than 10 % of the running maximum once it exceeds 1 kPa (dynamic ripple
+    and rearrangements aside). The records are taken every control interval, whose travel
+    grows with the plate speed: the curve is read on a 1 um grid of the gap first."""
     _, _, group = compacted
-    pressure = smooth(group["pressure_kPa"], 15)
+    gap = group["gap_mm"]
+    grid = np.arange(gap[0], gap[-1], -1e-3)
+    pressure = smooth(np.interp(-grid, -gap, group["pressure_kPa"]), 15)
     loaded = pressure > 1.0
     running_max = np.maximum.accumulate(pressure)
     assert np.all(pressure[loaded] >= 0.9 * running_max[loaded])

@@ -27,7 +27,7 @@ from ncf2lammps.scenes import render_deck
 HERTZ_MAT = {
     "cell": {"length_mm": 1.4, "width_mm": 1.27},
     "contact": {"normal_model": "hertz"},
-    "compaction": {"inertial_number": 0.5, "final_fvf": 0.62},
+    "compaction": {"inertial_number": 0.5, "final_fvf": 0.62, "end": "final_fvf"},
 }
 
 _PLATE = re.compile(

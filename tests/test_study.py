@@ -100,7 +100,7 @@ def compaction_study(tmp_path_factory):
     """A two-point study of the compaction rate on the tiny cell. The plates stop at Vf 0.35,
     past 18 kPa (the tiny cell passes it near Vf 0.29): both reported thicknesses are on the
     curve, and the test of a changed compaction table runs again to Vf 0.33, a wider gap."""
-    spec = tiny_spec(compaction={"final_fvf": 0.35})
+    spec = tiny_spec(compaction={"final_fvf": 0.35, "end": "final_fvf"})
     folder = tmp_path_factory.mktemp("study") / "study"
     study(spec, folder, [("compaction.inertial_number", [0.8, 0.4])], ["compaction"])
     return spec, folder
