@@ -27,7 +27,12 @@ from ncf2lammps.scenes import render_deck
 HERTZ_MAT = {
     "cell": {"length_mm": 1.4, "width_mm": 1.27},
     "contact": {"normal_model": "hertz"},
-    "compaction": {"inertial_number": 0.5, "final_fvf": 0.62, "end": "final_fvf"},
+    "compaction": {
+        "inertial_number": 0.5,
+        "final_fvf": 0.62,
+        "end": "final_fvf",
+        "loading": "constant",
+    },
 }
 
 _PLATE = re.compile(
