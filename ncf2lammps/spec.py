@@ -463,6 +463,23 @@ class ManufactureSpec:
     )
 
 
+def _max_rate_factor():
+    """``max_rate_factor`` of a test scene's adaptive loading (compaction, shear)."""
+    return _f(16.0, 1.0, 1e4, unit="x inertial-number rate", source="docs/loading.md: the fastest")
+
+
+def _kinetic_stress_target():
+    """``kinetic_stress_target`` of a test scene's adaptive loading (compaction, shear)."""
+    return _f(
+        KINETIC_STRESS_LIMIT / 4.0,
+        1e-6,
+        KINETIC_STRESS_LIMIT,
+        unit="-",
+        source="kinetic stress ratio above which adaptive loading brakes: a quarter of the 1 %"
+        " limit, so that a burst within one interval stays below it (docs/loading.md)",
+    )
+
+
 @dataclass(frozen=True)
 class CompactionSpec:
     """Compaction scene: plates closing, at a speed the loading adapts to the cell by default
@@ -496,17 +513,8 @@ class CompactionSpec:
     loading: str = _f(
         "adaptive", choices=LOADINGS, source="docs/loading.md: rate follows the measured stress"
     )
-    max_rate_factor: float = _f(
-        16.0, 1.0, 1e4, unit="x inertial-number rate", source="docs/loading.md: the fastest"
-    )
-    kinetic_stress_target: float = _f(
-        KINETIC_STRESS_LIMIT / 4.0,
-        1e-6,
-        KINETIC_STRESS_LIMIT,
-        unit="-",
-        source="kinetic stress ratio above which adaptive loading brakes: a quarter of the 1 %"
-        " limit, so that a burst within one interval stays below it (docs/loading.md)",
-    )
+    max_rate_factor: float = _max_rate_factor()
+    kinetic_stress_target: float = _kinetic_stress_target()
     record_every_um: float = _f(1.0, 1e-3, 1e3, unit="um", source="gap resolution of the curve")
 
 
@@ -531,17 +539,8 @@ class ShearSpec:
         source="docs/loading.md: on the coarse HPT 310 cell adaptive shear moved F_N(45) by"
         " -15 to +14 %",
     )
-    max_rate_factor: float = _f(
-        16.0, 1.0, 1e4, unit="x inertial-number rate", source="docs/loading.md: the fastest"
-    )
-    kinetic_stress_target: float = _f(
-        KINETIC_STRESS_LIMIT / 4.0,
-        1e-6,
-        KINETIC_STRESS_LIMIT,
-        unit="-",
-        source="kinetic stress ratio above which adaptive loading brakes: a quarter of the 1 %"
-        " limit, so that a burst within one interval stays below it (docs/loading.md)",
-    )
+    max_rate_factor: float = _max_rate_factor()
+    kinetic_stress_target: float = _kinetic_stress_target()
     fibre_pretension_N_m: float = _f(
         0.0, 0.0, 1000.0, unit="N/m", source="per unit width of each ply; paper frame: 22"
     )

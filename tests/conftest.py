@@ -239,7 +239,7 @@ def shared_folder(tmp_path_factory, name: str, make: Callable[[Path], object]) -
     return folder
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def coarse_manufactured(tmp_path_factory):
     """Folder of the coarse case after ``run --scene manufacture`` (run once per test run).
 
