@@ -14,7 +14,7 @@ from conftest import tiny_spec
 from ncf2lammps.analysis.study import pareto_front, relative_errors
 from ncf2lammps.io.results import read_results
 from ncf2lammps.io.spectoml import write_spec
-from ncf2lammps.orchestration.study import ensemble_spread, study, study_grid
+from ncf2lammps.orchestration.study import KNOBS, ensemble_spread, study, study_grid
 
 
 def test_pareto_front_keeps_points_no_faster_point_beats():
@@ -45,6 +45,17 @@ def test_grid_reference_is_every_knob_at_its_conservative_end():
         "numerics.fibre_stiffness_scaling": 1.0,
     }
     assert points[reference].spec.shear.inertial_number == 0.025
+
+
+def test_every_knob_is_a_spec_field_a_grid_can_set():
+    spec = tiny_spec()
+    for knob in KNOBS:
+        table, field_name = knob.split(".")
+        value = getattr(getattr(spec, table), field_name)
+        if value is None or isinstance(value, str):
+            continue  # optional fields and choices: their values are the spec's own checks
+        points, _ = study_grid(spec, [(knob, [value])])
+        assert getattr(getattr(points[0].spec, table), field_name) == value, knob
 
 
 def test_seed_points_form_an_ensemble_with_mean_and_sample_spread():

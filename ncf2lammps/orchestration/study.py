@@ -67,6 +67,8 @@ KNOBS = {
     "numerics.fibre_stiffness_scaling": "max",
     "manufacture.pretension_strain_rate_per_us": "min",
     "manufacture.damping_time_us": "max",
+    "manufacture.relaxation_damping_time_us": "max",
+    "manufacture.kinetic_ratio_target": "min",
     "manufacture.needle_speed_m_s": "min",
     "compaction.inertial_number": "min",
     "compaction.plate_speed_m_s": "min",
