@@ -14,7 +14,13 @@ from conftest import tiny_spec
 from ncf2lammps.analysis.study import pareto_front, relative_errors
 from ncf2lammps.io.results import read_results
 from ncf2lammps.io.spectoml import write_spec
-from ncf2lammps.orchestration.study import KNOBS, ensemble_spread, study, study_grid
+from ncf2lammps.orchestration.study import (
+    KNOBS,
+    _write_tables,
+    ensemble_spread,
+    study,
+    study_grid,
+)
 
 
 def test_pareto_front_keeps_points_no_faster_point_beats():
@@ -56,6 +62,16 @@ def test_every_knob_is_a_spec_field_a_grid_can_set():
             continue  # optional fields and choices: their values are the spec's own checks
         points, _ = study_grid(spec, [(knob, [value])])
         assert getattr(getattr(points[0].spec, table), field_name) == value, knob
+
+
+@pytest.mark.filterwarnings("error")
+def test_a_study_whose_points_all_failed_writes_its_tables_without_warnings(tmp_path):
+    spec = tiny_spec()
+    points, reference = study_grid(spec, [("mat.seed", [1, 2])])
+    rows = [{"point": p.label, **p.knobs, "status": "failed: push-off check"} for p in points]
+    for path in _write_tables(tmp_path, spec, points, reference, rows, ["manufacture"], 0.03):
+        assert path.stat().st_size > 0
+    assert "failed: push-off check" in (tmp_path / "study.md").read_text()
 
 
 def test_seed_points_form_an_ensemble_with_mean_and_sample_spread():
@@ -179,3 +195,21 @@ def test_study_keeps_a_folder_manufacture_and_reruns_only_changed_scenes(
         assert int(new["steps"]) < int(old["steps"])  # the plates stop at a wider gap
     stored = read_results(folder / "points" / "p00" / "results.h5")["attrs"]["spec_toml"]
     assert "final_fvf = 0.33" in (stored.decode() if isinstance(stored, bytes) else stored)
+
+
+@pytest.mark.lammps
+def test_study_asked_for_more_scenes_runs_them_on_the_kept_manufacture(compaction_study, tmp_path):
+    """A point finished with fewer scenes than asked for is not reused whole: its manufacture
+    is kept and the missing test scene runs."""
+    spec, _ = compaction_study
+    folder = tmp_path / "study"
+    vary = [("compaction.inertial_number", [0.8])]
+    study(spec, folder, vary, ["manufacture"])
+    first = list(csv.DictReader(open(folder / "study.csv")))
+    assert first[0]["status"] == "ok" and "thickness_at_1kPa_mm" not in first[0]
+
+    study(spec, folder, vary, ["manufacture", "compaction"])
+    (row,) = list(csv.DictReader(open(folder / "study.csv")))
+    assert row["status"] == "ok (reused manufacture)"
+    assert row["stitch_tension_N"] == first[0]["stitch_tension_N"]
+    assert float(row["thickness_at_1kPa_mm"]) > 0

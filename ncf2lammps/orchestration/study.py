@@ -216,18 +216,21 @@ def _manufacture_key(spec: FabricSpec) -> str:
     return json.dumps(_split_tables(dumps_spec(spec))[0], sort_keys=True)
 
 
-def _is_complete(directory: Path, spec: FabricSpec) -> bool:
+def _is_complete(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -> bool:
+    """Whether ``directory`` is a finished run of ``spec`` holding every one of ``scenes``."""
     path = directory / "results.h5"
     if not path.is_file():
         return False
     try:
-        root = read_results(path)["attrs"]
+        content = read_results(path)
     except ResultsFileError:  # a point killed while writing it: run it again
         return False
+    root = content["attrs"]
     spec_toml = root.get("spec_toml")
     if isinstance(spec_toml, bytes):
         spec_toml = spec_toml.decode()
-    return bool(root.get("complete")) and spec_toml == dumps_spec(spec)
+    finished = all(s in content and content[s]["attrs"].get("complete") for s in scenes)
+    return bool(root.get("complete")) and spec_toml == dumps_spec(spec) and finished
 
 
 def _reusable_scenes(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -> set[str]:
@@ -338,7 +341,7 @@ def study(
         print(f"study {point.label} ({number}/{len(points)}): {knobs}", file=sys.stderr)
         status = "ok"
         try:
-            if _is_complete(folder, point.spec):
+            if _is_complete(folder, point.spec, wanted):
                 status = "ok (reused)"
             elif keep := _reusable_scenes(folder, point.spec, wanted):
                 _run_from_manufactured(point, folder, folder, wanted, ranks, sorted(keep))
@@ -377,8 +380,8 @@ def _table(points, reference: int, rows: list[dict], scenes) -> _Table:
     outputs = [(attr, label) for scene, attr, label in OUTPUTS if scene in scenes]
     values = np.array([[row.get(attr, np.nan) for attr, _ in outputs] for row in rows])
     errors = relative_errors(values, reference)
-    with np.errstate(invalid="ignore"):
-        worst = np.where(np.all(np.isnan(errors), axis=1), np.nan, np.nanmax(errors, axis=1))
+    largest = np.max(np.where(np.isnan(errors), -np.inf, errors), axis=1, initial=-np.inf)
+    worst = np.where(np.isneginf(largest), np.nan, largest)
     worst[np.any(np.isnan(values), axis=1)] = np.nan
     wall = np.array([row.get("wall_s", np.nan) for row in rows])
     front = pareto_front(wall, worst)
