@@ -216,21 +216,31 @@ def _manufacture_key(spec: FabricSpec) -> str:
     return json.dumps(_split_tables(dumps_spec(spec))[0], sort_keys=True)
 
 
-def _is_complete(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -> bool:
-    """Whether ``directory`` is a finished run of ``spec`` holding every one of ``scenes``."""
+def _stored_run(directory: Path) -> tuple[str | None, set[str], bool] | None:
+    """A folder's stored run: (its spec TOML, its finished scenes, whether the run is
+    complete); None without a readable results.h5 (a point killed while writing it runs
+    again)."""
     path = directory / "results.h5"
     if not path.is_file():
-        return False
+        return None
     try:
         content = read_results(path)
-    except ResultsFileError:  # a point killed while writing it: run it again
+    except ResultsFileError:
+        return None
+    stored = content["attrs"].get("spec_toml")
+    if isinstance(stored, bytes):
+        stored = stored.decode()
+    finished = {k for k, v in content.items() if k != "attrs" and v["attrs"].get("complete")}
+    return stored, finished, bool(content["attrs"].get("complete"))
+
+
+def _is_complete(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -> bool:
+    """Whether ``directory`` is a finished run of ``spec`` holding every one of ``scenes``."""
+    stored = _stored_run(directory)
+    if stored is None:
         return False
-    root = content["attrs"]
-    spec_toml = root.get("spec_toml")
-    if isinstance(spec_toml, bytes):
-        spec_toml = spec_toml.decode()
-    finished = all(s in content and content[s]["attrs"].get("complete") for s in scenes)
-    return bool(root.get("complete")) and spec_toml == dumps_spec(spec) and finished
+    spec_toml, finished, complete = stored
+    return complete and spec_toml == dumps_spec(spec) and set(scenes) <= finished
 
 
 def _reusable_scenes(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -> set[str]:
@@ -240,24 +250,17 @@ def _reusable_scenes(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -
     the manufacture is reusable, and each test scene that finished with the same table too
     (compaction and shear each start from the manufactured state, not from one another).
     """
-    path = directory / "results.h5"
-    if not path.is_file():
+    stored = _stored_run(directory)
+    if stored is None:
         return set()
+    spec_toml, finished, _ = stored
     try:
-        content = read_results(path)
-    except ResultsFileError:
-        return set()
-    stored = content["attrs"].get("spec_toml")
-    if isinstance(stored, bytes):
-        stored = stored.decode()
-    try:
-        old, old_tests = _split_tables(stored)
+        old, old_tests = _split_tables(spec_toml)
     except (TypeError, tomllib.TOMLDecodeError):
         return set()
     new, new_tests = _split_tables(dumps_spec(spec))
     if old != new:
         return set()
-    finished = {k for k, v in content.items() if k != "attrs" and v["attrs"].get("complete")}
     if "manufacture" in scenes and "manufacture" not in finished:
         return set()
     same = {"manufacture"} | {t for t in TEST_TABLES if old_tests[t] == new_tests[t]}
