@@ -49,6 +49,7 @@ __all__ = [
     "Prepared",
     "TimeStep",
     "contact_law",
+    "damped_law",
     "guards",
     "inertial_strain_rate",
     "prepare",
@@ -108,8 +109,10 @@ class ContactLaw:
 
     Attributes: ``model`` ("hooke"/"hertz"); ``normal`` = k_n (nN/um, hooke) or E* scale
     (kPa, hertz/material: the Young's modulus given to LAMMPS); ``stiffness`` = the normal
-    stiffness at the reference overlap (nN/um); ``damping`` = eta_n for ``damping
-    mass_velocity`` (1/us); ``tangential`` = k_t (nN/um); ``friction`` = mu.
+    stiffness at the reference overlap (nN/um); ``damping`` = the normal law's damping
+    argument: eta_n (1/us) for ``damping_model`` "mass_velocity", the coefficient of
+    restitution e for "coeff_restitution" (:func:`damped_law`); ``tangential`` = k_t (nN/um);
+    ``friction`` = mu.
     """
 
     model: str
@@ -119,6 +122,7 @@ class ContactLaw:
     tangential: float
     friction: float
     stitch: ContactLaw | None = None
+    damping_model: str = "mass_velocity"
 
 
 def contact_law(spec: FabricSpec, model: Model) -> ContactLaw:
@@ -161,16 +165,56 @@ def _fibre_spacing_ratio(model: Model) -> float:
 
 
 def _law(model: str, normal: float, stiffness: float, m_eff: float, spec: FabricSpec):
-    """A :class:`ContactLaw` of normal parameter ``normal`` and reference ``stiffness``
-    (nN/um), damped at ``contact.damping_ratio`` for an effective mass ``m_eff`` (pg)."""
+    """The :func:`damped_law` of ``spec``'s contact table."""
     contact = spec.contact
+    return damped_law(
+        model,
+        normal,
+        stiffness,
+        contact.damping_ratio,
+        m_eff,
+        contact.tangential_stiffness_ratio,
+        contact.friction,
+    )
+
+
+def damped_law(
+    model: str,
+    normal: float,
+    stiffness: float,
+    damping_ratio: float,
+    m_eff: float,
+    tangential_ratio: float,
+    friction: float,
+) -> ContactLaw:
+    """A :class:`ContactLaw` of normal parameter ``normal``, reference ``stiffness`` (nN/um),
+    k_t = ``tangential_ratio`` x stiffness and Coulomb ``friction``, damped at
+    ``damping_ratio`` zeta of critical (docs/contact.md):
+
+    - hooke: ``damping mass_velocity``, the force ``eta m_eff v_n`` with
+      ``eta = 2 zeta sqrt(stiffness / m_eff)`` (1/us) for the effective mass ``m_eff`` (pg) of
+      the lightest pair: zeta of critical for that pair, more for heavier ones;
+    - hertz: ``damping coeff_restitution``, the force ``2 zeta sqrt(m_eff F_n / delta) v_n``
+      of every pair's own effective mass and secant stiffness ``F_n / delta`` at its current
+      overlap: zeta of critical on every contact at every load. LAMMPS forms that prefactor as
+      ``sqrt(5) zeta_e sqrt(m_eff F_n / delta)`` from the coefficient of restitution e it is
+      given, ``zeta_e = -ln e / sqrt(pi^2 + ln^2 e)`` (src/GRANULAR/gran_sub_mod_damping.cpp),
+      so e is the one of ``zeta_e = 2 zeta / sqrt(5)``.
+    """
+    if model == "hooke":
+        damping, damping_model = 2.0 * damping_ratio * np.sqrt(stiffness / m_eff), "mass_velocity"
+    else:
+        zeta_e = 2.0 * damping_ratio / np.sqrt(5.0)
+        damping = np.exp(-np.pi * zeta_e / np.sqrt(1.0 - zeta_e**2))
+        damping_model = "coeff_restitution"
     return ContactLaw(
         model=model,
         normal=float(normal),
         stiffness=float(stiffness),
-        damping=float(2.0 * contact.damping_ratio * np.sqrt(stiffness / m_eff)),
-        tangential=float(contact.tangential_stiffness_ratio * stiffness),
-        friction=float(contact.friction),
+        damping=float(damping),
+        tangential=float(tangential_ratio * stiffness),
+        friction=float(friction),
+        damping_model=damping_model,
     )
 
 

@@ -404,7 +404,14 @@ class ContactSpec:
         source="beta (filament span / amplitude) of the bundle law: Gutowski et al. 1987;"
         " 225-350 reported for carbon",
     )
-    damping_ratio: float = _f(0.3, 0.0, 1.0, unit="-", source="fraction of critical, per contact")
+    damping_ratio: float = _f(
+        0.3,
+        0.0,
+        1.0,
+        unit="-",
+        source="fraction of critical, per contact, numerical (hooke: of the lightest"
+        " pair at k_n, hertz and bundle: of every pair at its current stiffness)",
+    )
     tangential_stiffness_ratio: float = _f(
         2.0 / 7.0, 0.01, 1.0, unit="kt/kn", source="LAMMPS gran/hooke/history default 2/7"
     )

@@ -139,3 +139,64 @@ def test_hertz_compaction_loads_both_plates(tmp_path):
     assert group["attrs"]["reached_fvf"] == pytest.approx(
         HERTZ_MAT["compaction"]["final_fvf"], rel=0.05
     )
+
+
+@pytest.mark.lammps
+def test_hertz_damping_is_the_same_fraction_of_critical_for_every_pair(tmp_path):
+    """Hertz contacts are damped at ``contact.damping_ratio`` zeta of critical at their own
+    stiffness and mass (numerics.damped_law): a pair closing at relative speed v with overlap
+    delta feels ``F_n + 2 zeta sqrt(m_eff F_n / delta) v`` (F_n the elastic Hertz force,
+    m_eff = m_i m_j / (m_i + m_j)), for beads ten times heavier as for light ones, and a bead
+    moving into a plate the same with m_eff = m (to 1e-9)."""
+    run = prepare(case_spec("mat-only").replace(contact={"normal_model": "hertz"}))
+    plates, pair = _laws(render_deck(run, "compaction").text)
+    radius, delta, speed, zeta = 50.0, 0.1, 0.02, run.spec.contact.damping_ratio
+    (tmp_path / "in.lmp").write_text(
+        f"""
+units           micro
+boundary        p p f
+atom_style      sphere
+atom_modify     map array
+comm_modify     vel yes
+region          box block -500 500 -500 500 -200 400
+create_box      1 box
+create_atoms    1 single -200.0 0.0 100.0
+create_atoms    1 single {-200.0 + 2 * radius - delta} 0.0 100.0
+create_atoms    1 single 200.0 0.0 100.0
+create_atoms    1 single {200.0 + 2 * radius - delta} 0.0 100.0
+create_atoms    1 single 0.0 0.0 {radius - delta}
+set             group all diameter {2 * radius} density 1.8
+set             atom 4 density 18.0
+set             atom 1 vx {speed}
+set             atom 3 vx {speed}
+set             atom 5 vz {-speed}
+group           low id 5
+pair_style      granular
+pair_coeff      * * {pair}
+region          plate_bottom plane 0.0 0.0 0.0 0.0 0.0 1.0 units box
+fix             wall_bottom low wall/gran/region granular {plates["bottom"]} region plate_bottom contacts
+compute         force_bottom all reduce sum f_wall_bottom[4]
+variable        light equal -fx[1]
+variable        heavy equal -fx[3]
+variable        wall equal c_force_bottom
+variable        m1 equal mass[1]
+variable        m4 equal mass[4]
+thermo_style    custom step v_light v_heavy v_wall
+run             0
+"""
+    )
+    with Engine(log=None) as engine:
+        engine.file(tmp_path / "in.lmp")
+        value = engine.variable
+        e_star = run.contact.normal / 2.0
+        pair_force = 4.0 / 3.0 * e_star * math.sqrt(radius / 2.0 * delta) * delta
+        wall_force = 4.0 / 3.0 * e_star * math.sqrt(radius * delta) * delta
+        light, heavy = value("m1"), value("m4")
+
+        def damped(force: float, m_eff: float) -> float:
+            return force + 2.0 * zeta * math.sqrt(m_eff * force / delta) * speed
+
+        assert value("light") == pytest.approx(damped(pair_force, light / 2.0), rel=1e-9)
+        m_eff = light * heavy / (light + heavy)
+        assert value("heavy") == pytest.approx(damped(pair_force, m_eff), rel=1e-9)
+        assert value("wall") == pytest.approx(damped(wall_force, light), rel=1e-9)

@@ -38,7 +38,7 @@ import numpy as np
 from ... import units
 from ...geometry.bundle import FIT_WINDOW_KPA, FibreBed, bundle_law
 from ...numerics import ContactLaw
-from .common import CaseResult, ChainSet, Check, fibre, lammps_case, record
+from .common import CaseResult, ChainSet, Check, fibre, hertz_contact, lammps_case, record
 from .plots import line_plot
 from .sliding import wall_friction
 
@@ -52,13 +52,6 @@ D_BUNDLE = 100.0
 SPACING = 0.5
 BED = FibreBed(units.to_micro(240.0, "GPa"), 350.0, 0.5, 0.785)
 OFFSETS = 16
-
-
-def _hertz_law(modulus: float, stiffness: float, mass: float, mu: float) -> ContactLaw:
-    """hertz/material of Young's modulus ``modulus`` (kPa), damped at 0.3 of critical for
-    ``stiffness`` (nN/um) between beads of ``mass`` (pg)."""
-    eta = 2.0 * 0.3 * math.sqrt(stiffness / (mass / 2.0))
-    return ContactLaw("hertz", modulus, stiffness, eta, 2.0 / 7.0 * stiffness, mu)
 
 
 def _stack(workdir: Path, full: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -90,7 +83,7 @@ def _stack(workdir: Path, full: bool) -> tuple[np.ndarray, np.ndarray]:
         "speed": layers * D_BUNDLE * overlap_end / duration,
         "chunk": chunk,
     }
-    contact = _hertz_law(2.0 * e_star, stiffness, mass, 0.0)
+    contact = hertz_contact(2.0 * e_star, stiffness, mass, 0.0)
     with lammps_case(workdir, "validation/stack.lmp.j2", model, dt, contact, **values) as lmp:
         rows = record(lmp, "record", 2, chunk, chunks)
     return rows[:, 1] / layers / D_BUNDLE, rows[:, 0]
@@ -105,7 +98,7 @@ def _coulomb(workdir: Path, mu: float) -> float:
     stiffness = 2.0 * e_star * math.sqrt(D_BUNDLE / 2.0 * overlap)
 
     def contact(mass: float) -> ContactLaw:
-        return _hertz_law(2.0 * e_star, stiffness, mass, mu)
+        return hertz_contact(2.0 * e_star, stiffness, mass, mu)
 
     return wall_friction(workdir, D_BUNDLE, load, overlap, contact, pull=10.0)[0]
 

@@ -21,7 +21,7 @@ from ...engine import Engine
 from ...io.datafile import write_data
 from ...io.deck import render
 from ...model import AtomType, BondType, Box, Model, Part, join
-from ...numerics import ContactLaw
+from ...numerics import ContactLaw, damped_law
 from ..deck import base_context
 
 __all__ = [
@@ -33,6 +33,7 @@ __all__ = [
     "Check",
     "D",
     "contact",
+    "hertz_contact",
     "lammps_case",
     "record",
 ]
@@ -183,13 +184,16 @@ class ChainSet:
 
 
 def contact(kn: float, mass: float, mu: float, damping_ratio: float = 0.3) -> ContactLaw:
-    """Hooke contact: stiffness ``kn`` (nN/um), damping ratio of a pair of beads of ``mass`` (pg).
+    """Hooke contact: stiffness ``kn`` (nN/um), damping ratio of a pair of beads of ``mass``
+    (pg), tangential stiffness 2/7 kn (docs/design.md §6, spec default; numerics.damped_law)."""
+    return damped_law("hooke", kn, kn, damping_ratio, mass / 2.0, 2.0 / 7.0, mu)
 
-    ``damping mass_velocity`` takes eta (1/us) with force ``eta m_eff v``, ``m_eff = m / 2``:
-    ``eta = 2 zeta sqrt(kn / m_eff)``; tangential stiffness 2/7 kn (docs/design.md §6, spec default).
-    """
-    eta = 2.0 * damping_ratio * np.sqrt(kn / (mass / 2.0))
-    return ContactLaw("hooke", float(kn), float(kn), float(eta), float(2.0 / 7.0 * kn), float(mu))
+
+def hertz_contact(modulus: float, stiffness: float, mass: float, mu: float) -> ContactLaw:
+    """hertz/material of Young's modulus ``modulus`` (kPa) and reference ``stiffness`` (nN/um),
+    every pair damped at 0.3 of critical at its current stiffness (numerics.damped_law), beads of
+    ``mass`` (pg)."""
+    return damped_law("hertz", modulus, stiffness, 0.3, mass / 2.0, 2.0 / 7.0, mu)
 
 
 def _base_values(model: Model, dt: float, law: ContactLaw, scene: str, data_file: str) -> dict:

@@ -74,7 +74,16 @@ from ...model import AtomType, Box, Model, Part, join
 from ...model.builder import angle_kinds, rest_angles, rest_length_types
 from ...numerics import ContactLaw
 from ...spec import HEXAGONAL_PACKING
-from .common import E_CARBON, MU, RHO_CARBON, CaseResult, Check, contact, lammps_case
+from .common import (
+    E_CARBON,
+    MU,
+    RHO_CARBON,
+    CaseResult,
+    Check,
+    contact,
+    hertz_contact,
+    lammps_case,
+)
 from .plots import line_plot
 
 __all__ = ["run"]
@@ -205,8 +214,7 @@ def _numerics(model: Model, ei: float, progressive: bool) -> tuple[ContactLaw, f
         law = bundle_law(BED)
         e_star = law.effective_modulus(0.5)
         k = 2.0 * e_star * math.sqrt(CHAIN_D / 4 * law.overlap_at(FIT_WINDOW_KPA[1]) * CHAIN_D)
-        eta = 2.0 * 0.3 * math.sqrt(k / (mass / 2.0))
-        law_lmp = ContactLaw("hertz", 2.0 * e_star, k, eta, 2.0 / 7.0 * k, MU)
+        law_lmp = hertz_contact(2.0 * e_star, k, mass, MU)
     else:
         k = units.to_micro(RIGID_KN, "N_m")
         law_lmp = contact(k, mass, MU)
