@@ -17,7 +17,7 @@ from .engine import EngineError
 from .geometry.bundle import FIT_WINDOW_KPA, spec_bundle_law
 from .geometry.direction import lattice_direction
 from .io.results import ResultsFileError
-from .numerics import STABLE_FRACTION, prepare
+from .numerics import STABLE_FRACTION, prepare, stitch_mass_balance
 from .orchestration.build import OutputExistsError, build, check_ranks
 from .orchestration.export import export
 from .orchestration.folder import RunFolderError, check_output
@@ -70,9 +70,11 @@ def _check(args) -> int:
         )
     mass = simulated.mass
     numerics = spec.numerics
+    stitch_share = mass[model.role_mask("stitch")].sum() / mass.sum()
     lines += [
         f"bead mass     {mass.min():.4g} .. {mass.max():.4g} pg (mass scaling {numerics.mass_scaling:g},"
-        f" fibre stiffness scaling {numerics.fibre_stiffness_scaling:g})",
+        f" fibre stiffness scaling {numerics.fibre_stiffness_scaling:g}, stitch mass scaling"
+        f" {numerics.stitch_mass_scaling:g}: stitch {100 * stitch_share:.3g} % of the mass)",
         f"contact       {law.model}: k_n = {units.from_micro(law.stiffness, 'N_m'):.4g} N/m, mu = {law.friction:g}",
     ]
     if law.stitch is not None:
@@ -96,6 +98,13 @@ def _check(args) -> int:
         f"time step     dt = {step.dt:.4g} us = {step.fraction:g} x {step.critical:.4g} us ({step.governing})",
         f"margin        {step.margin:.3g} (stable up to {STABLE_FRACTION} sqrt(m/k); > 1 is safe)",
     ]
+    balance = stitch_mass_balance(step)
+    if balance > 1.25:
+        lines.append(
+            f"stitch        sets the step: numerics.stitch_mass_scaling ="
+            f" {balance * numerics.stitch_mass_scaling:.3g} lifts its limits to the fibres'"
+            f" (docs/performance.md)"
+        )
     print("\n".join(lines))
     return 0
 

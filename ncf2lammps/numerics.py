@@ -15,8 +15,12 @@ Two numerical scalings trade inertia and fibre stretch for larger steps (docs/pe
 ``numerics.mass_scaling`` multiplies every bead mass (every limit grows by its square root; the
 loading rates keep using the physical density, so the run is that much more dynamic) and
 ``numerics.fibre_stiffness_scaling`` multiplies the fibre bonds' axial stiffness (their limit
-grows by its inverse square root; fibres stretch that much more). :func:`simulated_model` applies
-both; every limit here is computed on it.
+grows by its inverse square root; fibres stretch that much more). ``numerics.stitch_mass_scaling``
+multiplies the stitch beads' mass only: where the light stitch yarn alone sets the step, as on
+the coarse bundle cells, it lifts the stitch's limits (by its square root) to the fibres' at a
+small share of the cell's mass, as explicit FE codes scale only the elements below a target
+step (:func:`stitch_mass_balance` gives the factor that balances them). :func:`simulated_model`
+applies all three; every limit here is computed on it.
 
 Bending angles (``discretisation.bending``, docs/fidelity.md) of stiffness EI at bead spacing s
 add the transverse stencil ``EI / s^3 [1, -4, 6, -4, 1]``: its zigzag mode has
@@ -54,6 +58,7 @@ __all__ = [
     "inertial_strain_rate",
     "prepare",
     "simulated_model",
+    "stitch_mass_balance",
     "time_step",
 ]
 
@@ -88,10 +93,16 @@ HERTZ_REFERENCE_OVERLAP = 0.05
 
 
 def simulated_model(spec: FabricSpec, model: Model) -> Model:
-    """The model LAMMPS integrates: bead densities x ``mass_scaling`` and fibre bond stiffness
-    (K and EA) x ``fibre_stiffness_scaling``. Atom types keep their physical densities."""
+    """The model LAMMPS integrates: bead densities x ``mass_scaling`` (stitch beads x
+    ``stitch_mass_scaling`` on top) and fibre bond stiffness (K and EA) x
+    ``fibre_stiffness_scaling``. Atom types keep their physical densities."""
     numerics = spec.numerics
-    if numerics.mass_scaling == 1.0 and numerics.fibre_stiffness_scaling == 1.0:
+    scalings = (
+        numerics.mass_scaling,
+        numerics.fibre_stiffness_scaling,
+        numerics.stitch_mass_scaling,
+    )
+    if scalings == (1.0, 1.0, 1.0):
         return model
     stiffness = numerics.fibre_stiffness_scaling
     bond_types = tuple(
@@ -100,7 +111,9 @@ def simulated_model(spec: FabricSpec, model: Model) -> Model:
         else t
         for t in model.bond_types
     )
-    return replace(model, density=model.density * numerics.mass_scaling, bond_types=bond_types)
+    density = model.density * numerics.mass_scaling
+    density = np.where(model.role_mask("stitch"), density * numerics.stitch_mass_scaling, density)
+    return replace(model, density=density, bond_types=bond_types)
 
 
 @dataclass(frozen=True)
@@ -294,6 +307,19 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
     return TimeStep(
         limits, governing, critical, fraction * critical, fraction, STABLE_FRACTION / fraction
     )
+
+
+def stitch_mass_balance(step: TimeStep) -> float:
+    """The ``stitch_mass_scaling`` factor (on top of the current one) that lifts the stitch's
+    own limits (its beads and bonds, which grow as its square root) to the smallest limit of
+    the fibres: ``(min fibre limit / min stitch limit)^2``, 1 where the stitch does not govern
+    or the model has none. The global ``contact`` limit is left out: it follows the lightest
+    bead, whichever that is."""
+    stitch = [v for k, v in step.limits.items() if "stitch" in k]
+    fibre = [v for k, v in step.limits.items() if "stitch" not in k and k != "contact"]
+    if not stitch or not fibre:
+        return 1.0
+    return max(1.0, (min(fibre) / min(stitch)) ** 2)
 
 
 @dataclass(frozen=True)

@@ -427,6 +427,13 @@ class NumericsSpec:
     allow_unstable_dt: bool = _f(False, source="refuse dt above the stability limit")
     mass_scaling: float = _f(1.0, 1.0, 1e6, unit="-", source="docs/performance.md")
     fibre_stiffness_scaling: float = _f(1.0, 1e-4, 1.0, unit="-", source="docs/performance.md")
+    stitch_mass_scaling: float = _f(
+        1.0,
+        1.0,
+        1e4,
+        unit="-",
+        source="mass scaling of the beads below a target step (Abaqus/Explicit); docs/performance.md",
+    )
     neighbor_skin_um: float | None = _f(None, 0.01, 1e4, unit="um", source="None: d/10, >= 1 um")
     thermo_every: int = _f(1000, 1, 10**9, unit="steps", source="output cadence")
     guard_every: int = _f(100, 1, 10**9, unit="steps", source="stability guard cadence")

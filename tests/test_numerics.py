@@ -1,4 +1,4 @@
-"""Time-step limits and the numerical scalings (mass, fibre stiffness) reach LAMMPS."""
+"""Time-step limits and the numerical scalings (mass, fibre stiffness, stitch mass) reach LAMMPS."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from conftest import tiny_spec
 
 from ncf2lammps import build_model
 from ncf2lammps.io.datafile import read_data
-from ncf2lammps.numerics import simulated_model, time_step
+from ncf2lammps.numerics import simulated_model, stitch_mass_balance, time_step
 from ncf2lammps.orchestration.build import build
 
 
@@ -61,6 +61,35 @@ def test_scalings_reach_the_data_file_and_scale_the_limits(
     fibre_k = [t.k for t in simulated.bond_types if t.role == "fibre"]
     physical_k = [t.k for t in model.bond_types if t.role == "fibre"]
     np.testing.assert_allclose(fibre_k, np.multiply(physical_k, stiffness_scaling), rtol=1e-12)
+
+
+def test_stitch_mass_scaling_scales_only_the_stitch_and_its_balance_lifts_it_to_the_fibres(
+    tmp_path,
+):
+    """stitch_mass_scaling S: the stitch beads' density x S in the data file, the fibre beads'
+    unchanged; the stitch's own limits (its beads' bound and bonds) x sqrt(S), every fibre bond
+    and bending limit unchanged (1e-12). Its balance factor lifts the smallest stitch limit to
+    the smallest fibre limit (1e-9), after which the stitch no longer governs."""
+    base = tiny_spec()
+    model = build_model(base)
+    reference = time_step(base, model)
+    balance = stitch_mass_balance(reference)
+    assert balance > 1.0 and "stitch" in reference.governing
+    spec = base.replace(numerics={"stitch_mass_scaling": balance})
+    scaled = time_step(spec, model)
+    for name, limit in scaled.limits.items():
+        if name.startswith(("bond stitch", "bead stitch")):
+            expected = reference.limits[name] * math.sqrt(balance)
+            assert limit == pytest.approx(expected, rel=1e-12), name
+        elif name.startswith(("bond ply", "bending")):
+            assert limit == pytest.approx(reference.limits[name], rel=1e-12), name
+    stitch = min(v for k, v in scaled.limits.items() if "stitch" in k)
+    fibre = min(v for k, v in scaled.limits.items() if "stitch" not in k and k != "contact")
+    assert stitch == pytest.approx(fibre, rel=1e-9)
+    assert scaled.dt > reference.dt
+    data = read_data(build(spec, tmp_path / "run").directory / "model.data")
+    factor = np.where(model.role_mask("stitch"), balance, 1.0)
+    np.testing.assert_allclose(data.density, model.density * factor, rtol=1e-12)
 
 
 def test_a_model_beyond_max_beads_is_refused_before_allocation():

@@ -65,6 +65,7 @@ KNOBS = {
     "numerics.dt_fraction": "min",
     "numerics.mass_scaling": "min",
     "numerics.fibre_stiffness_scaling": "max",
+    "numerics.stitch_mass_scaling": "min",
     "manufacture.pretension_strain_rate_per_us": "min",
     "manufacture.damping_time_us": "max",
     "manufacture.relaxation_damping_time_us": "max",
