@@ -17,9 +17,10 @@ loading rates keep using the physical density, so the run is that much more dyna
 ``numerics.fibre_stiffness_scaling`` multiplies the fibre bonds' axial stiffness (their limit
 grows by its inverse square root; fibres stretch that much more). ``numerics.stitch_mass_scaling``
 multiplies the stitch beads' mass only: where the light stitch yarn alone sets the step, as on
-the coarse bundle cells, it lifts the stitch's limits (by its square root) to the fibres' at a
-small share of the cell's mass, as explicit FE codes scale only the elements below a target
-step (:func:`stitch_mass_balance` gives the factor that balances them). :func:`simulated_model`
+the coarse bundle cells, it lifts the stitch's limits (by its square root) to the fibres', as
+explicit FE codes scale only the elements below a target step (:func:`stitch_mass_balance`
+gives the factor that balances them); the heavier stitch moves the results of a stitched
+cell, so it is off by default (docs/performance.md). :func:`simulated_model`
 applies all three; every limit here is computed on it.
 
 Bending angles (``discretisation.bending``, docs/fidelity.md) of stiffness EI at bead spacing s
