@@ -238,6 +238,7 @@ class TimeStep:
 
     Attributes:
         limits: {name: sqrt(m/k)} for each bond type and for contacts (us).
+        roles: {name: "fibre", "stitch" or "contact"}: whose beads each limit belongs to.
         governing: the name of the smallest limit.
         critical: the smallest limit sqrt(m/k) (us).
         dt: chosen time step (us).
@@ -246,6 +247,7 @@ class TimeStep:
     """
 
     limits: dict[str, float]
+    roles: dict[str, str]
     governing: str
     critical: float
     dt: float
@@ -259,12 +261,14 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
     simulated = simulated_model(spec, model)
     mass = simulated.mass
     limits: dict[str, float] = {}
+    roles: dict[str, str] = {"contact": "contact"}
     for index, bond_type in enumerate(simulated.bond_types):
         in_type = model.bond_type == index
         if not np.any(in_type):
             continue
         m_min = float(mass[model.bonds[in_type].ravel()].min())
         limits[f"bond {bond_type.name}"] = float(np.sqrt(m_min / (2.0 * bond_type.k)))
+        roles[f"bond {bond_type.name}"] = bond_type.role
     bending = np.zeros(len(simulated.atom_types))
     for index, angle_type in enumerate(simulated.angle_types):
         in_type = simulated.angle_type == index
@@ -277,6 +281,7 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
             key = f"bending {simulated.atom_types[t].name}"
             limit = float(np.sqrt(m_min / k_zigzag))
             limits[key] = min(limits.get(key, limit), limit)
+            roles[key] = simulated.atom_types[t].role
             bending[t] = max(bending[t], 2.0 * k_zigzag)
     law = contact_law(spec, model)
     stiffest = law if law.stitch is None else law.stitch
@@ -291,9 +296,9 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
         k_bond = float(bond_k[np.unique(simulated.bond_type[ends])].max()) if ends.any() else 0.0
         m_min = float(mass[beads].min())
         bend = " + bending" if bending[index] else ""
-        limits[f"bead {atom_type.name} (2 bonds + {COORDINATION} contacts{bend})"] = float(
-            np.sqrt(2.0 * m_min / (2.0 * k_bond + contacts + bending[index]))
-        )
+        key = f"bead {atom_type.name} (2 bonds + {COORDINATION} contacts{bend})"
+        limits[key] = float(np.sqrt(2.0 * m_min / (2.0 * k_bond + contacts + bending[index])))
+        roles[key] = atom_type.role
     governing = min(limits, key=limits.get)
     critical = limits[governing]
     fraction = spec.numerics.dt_fraction
@@ -306,7 +311,13 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
             " numerics.allow_unstable_dt = true to run anyway",
         )
     return TimeStep(
-        limits, governing, critical, fraction * critical, fraction, STABLE_FRACTION / fraction
+        limits,
+        roles,
+        governing,
+        critical,
+        fraction * critical,
+        fraction,
+        STABLE_FRACTION / fraction,
     )
 
 
@@ -316,8 +327,8 @@ def stitch_mass_balance(step: TimeStep) -> float:
     the fibres: ``(min fibre limit / min stitch limit)^2``, 1 where the stitch does not govern
     or the model has none. The global ``contact`` limit is left out: it follows the lightest
     bead, whichever that is."""
-    stitch = [v for k, v in step.limits.items() if "stitch" in k]
-    fibre = [v for k, v in step.limits.items() if "stitch" not in k and k != "contact"]
+    stitch = [v for k, v in step.limits.items() if step.roles[k] == "stitch"]
+    fibre = [v for k, v in step.limits.items() if step.roles[k] == "fibre"]
     if not stitch or not fibre:
         return 1.0
     return max(1.0, (min(fibre) / min(stitch)) ** 2)
