@@ -15,7 +15,7 @@ from conftest import (
 )
 
 from ncf2lammps import build_model, prepare, run, run_scenes
-from ncf2lammps.analysis.shear import PictureFrame, work_force
+from ncf2lammps.analysis.shear import FORCE_WINDOW, PictureFrame, ShearCurve, work_force
 from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
 from ncf2lammps.orchestration.report import write_report
@@ -176,7 +176,8 @@ def test_shear_rate_is_derived_or_given():
     spec = case_spec("hpt310-coarse")
     model = build_model(spec)
     derived = shear_rate(spec, model)
-    quieter = shear_rate(spec.replace(shear={"inertial_number": 0.0125}), model)
+    half = spec.shear.inertial_number / 2
+    quieter = shear_rate(spec.replace(shear={"inertial_number": half}), model)
     assert quieter == pytest.approx(derived / 2)
     given = spec.replace(shear={"shear_rate_deg_us": 0.01})
     assert shear_rate(given, model) == pytest.approx(math.radians(0.01))
@@ -205,6 +206,27 @@ def test_work_force_of_constant_membrane_forces():
     assert force == pytest.approx(nxy - nyy * np.tan(mid), rel=1e-5)
     _, same = work_force(angle, args[1], np.full(201, la), args[3], [nxy] * 200, [nyy] * 200)
     assert np.array_equal(same, force)  # a scalar lx is the constant edge
+
+
+def test_force_at_an_angle_is_the_trailing_line_of_the_records():
+    """F_N at an angle is the least-squares line through the records of the trailing window.
+
+    A straight curve comes back exactly (1e-9); a stick-slip of +-10 % alternating record by
+    record (20 records in the window) comes out below 2 % of the line's value; with fewer than
+    3 records in the window it interpolates.
+    """
+    angle = np.linspace(0.0, math.pi / 4, 451)
+    mid = 0.5 * (angle[1:] + angle[:-1])
+    line = 3.0 + 60.0 * mid
+    zeros, box = np.zeros(450), (angle, np.zeros(451), 1.0, np.ones(451))
+    curve = ShearCurve(*box, line, zeros, zeros, zeros).compute()
+    assert curve.force_at(math.pi / 4) == pytest.approx(3.0 + 60.0 * math.pi / 4, rel=1e-9)
+    swing = line * (1.0 + 0.1 * (-1.0) ** np.arange(450))
+    noisy = ShearCurve(*box, swing, zeros, zeros, zeros).compute()
+    assert noisy.force_at(math.pi / 4) == pytest.approx(3.0 + 60.0 * math.pi / 4, rel=0.02)
+    assert curve.force_at(mid[1]) == pytest.approx(np.interp(mid[1], mid, line))
+    assert math.isnan(curve.force_at(math.pi / 3))
+    assert FORCE_WINDOW > 2 * (mid[1] - mid[0])  # the window holds more than 2 records
 
 
 def test_frame_and_senses_are_checked_with_one_line_errors():

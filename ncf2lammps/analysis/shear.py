@@ -23,6 +23,7 @@ import numpy as np
 
 __all__ = [
     "EXPERIMENT_FORCE_45DEG_N_PER_M",
+    "FORCE_WINDOW",
     "PAPER_MODEL_FORCE_45DEG_N_PER_M",
     "SENSE_GROUPS",
     "PictureFrame",
@@ -128,6 +129,14 @@ def work_force(angle, xy, lx, ly, nxy, nyy, nxx=None) -> tuple[np.ndarray, np.nd
     return d_work, d_work / (lx * ly_mean * np.diff(angle))
 
 
+FORCE_WINDOW = math.radians(2.0)
+"""Width (rad) of the trailing window through which :meth:`ShearCurve.force_at` fits its line.
+Past the lock the interval means (0.1 deg each at the default loading) swing by stick-slip:
+on the coarse HPT 310 cell, single records near 45 deg moved F_N(45) by 8 % between loading
+rates whose 2-deg lines agree within ~3 % (docs/shear.md). On a convex curve the line is low by
+``F'' window^2 / 12`` (0.2 % at 45 deg on that cell)."""
+
+
 class ShearCurve:
     """Loading curve of a picture-frame shear; ``compute()`` then read the attributes.
 
@@ -164,11 +173,17 @@ class ShearCurve:
             self.kinetic_ratio = self.kinetic / np.abs(self.work)
         return self
 
-    def force_at(self, angle: float) -> float:
-        """Virial ``F_N`` (nN/um) interpolated at ``angle`` (rad); NaN outside the record."""
+    def force_at(self, angle: float, window: float = FORCE_WINDOW) -> float:
+        """Virial ``F_N`` (nN/um) at ``angle`` (rad): the least-squares line through the interval
+        means whose mid-angles lie in ``[angle - window, angle]``, evaluated at ``angle``
+        (linear interpolation where fewer than 3 lie there); NaN outside the record."""
         if len(self.mid_angle) == 0 or not self.angle[0] <= angle <= self.angle[-1]:
             return float("nan")
-        return float(np.interp(angle, self.mid_angle, self.force))
+        inside = (self.mid_angle >= angle - window) & (self.mid_angle <= angle)
+        if np.count_nonzero(inside) < 3:
+            return float(np.interp(angle, self.mid_angle, self.force))
+        line = np.polyfit(self.mid_angle[inside] - angle, self.force[inside], 1)
+        return float(line[1])
 
     def max_kinetic_ratio(self, from_angle: float) -> float:
         """Largest kinetic energy / external work once the angle has passed ``from_angle`` (rad)."""
