@@ -159,8 +159,9 @@ def test_shear_of_a_stitched_cell_starts_from_the_manufactured_state(coarse_shea
 
 @pytest.mark.lammps
 @pytest.mark.slow
-def test_halving_the_rate_moves_the_force_less_than_5_percent(coarse_manufactured, tmp_path):
-    """Quasi-static at the derived default rate: F_N(45 deg) moves < 5 % at half the rate."""
+def test_halving_the_rate_moves_the_force_less_than_3_percent(coarse_manufactured, tmp_path):
+    """Quasi-static at the case's rate (I = 0.05): F_N(45 deg), the 2-deg trailing line of the
+    records, moves < 3 % at half the rate (measured: 0.06 %)."""
     spec = case_spec("hpt310-coarse")
     default = math.degrees(shear_rate(spec, build_model(spec)))
     forces = []
@@ -169,7 +170,7 @@ def test_halving_the_rate_moves_the_force_less_than_5_percent(coarse_manufacture
         run_scenes(spec.replace(shear={"shear_rate_deg_us": rate}), folder, ["shear"])
         attrs = read_results(folder / "results.h5")["shear"]["attrs"]
         forces.append(attrs["force_at_45deg_N_per_m"])
-    assert forces[1] == pytest.approx(forces[0], rel=0.05)
+    assert forces[1] == pytest.approx(forces[0], rel=0.03)
 
 
 def test_shear_rate_is_derived_or_given():
