@@ -133,7 +133,7 @@ FORCE_WINDOW = math.radians(2.0)
 """Width (rad) of the trailing window through which :meth:`ShearCurve.force_at` fits its line.
 Past the lock the interval means (0.1 deg each at the default loading) swing by stick-slip:
 on the coarse HPT 310 cell, single records near 45 deg moved F_N(45) by 8 % between loading
-rates whose 2-deg lines agree within ~3 % (docs/shear.md). On a convex curve the line is low by
+rates whose 2-deg lines agree within 1.6 % (docs/shear.md). On a convex curve the line is low by
 ``F'' window^2 / 12`` (0.2 % at 45 deg on that cell)."""
 
 
