@@ -173,13 +173,13 @@ class ShearCurve:
             self.kinetic_ratio = self.kinetic / np.abs(self.work)
         return self
 
-    def force_at(self, angle: float, window: float = FORCE_WINDOW) -> float:
+    def force_at(self, angle: float) -> float:
         """Virial ``F_N`` (nN/um) at ``angle`` (rad): the least-squares line through the interval
-        means whose mid-angles lie in ``[angle - window, angle]``, evaluated at ``angle``
+        means whose mid-angles lie in ``[angle - FORCE_WINDOW, angle]``, evaluated at ``angle``
         (linear interpolation where fewer than 3 lie there); NaN outside the record."""
         if len(self.mid_angle) == 0 or not self.angle[0] <= angle <= self.angle[-1]:
             return float("nan")
-        inside = (self.mid_angle >= angle - window) & (self.mid_angle <= angle)
+        inside = (self.mid_angle >= angle - FORCE_WINDOW) & (self.mid_angle <= angle)
         if np.count_nonzero(inside) < 3:
             return float(np.interp(angle, self.mid_angle, self.force))
         line = np.polyfit(self.mid_angle[inside] - angle, self.force[inside], 1)
