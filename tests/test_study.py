@@ -64,6 +64,16 @@ def test_every_knob_is_a_spec_field_a_grid_can_set():
         assert getattr(getattr(points[0].spec, table), field_name) == value, knob
 
 
+def test_a_constant_studied_over_its_range_refers_to_its_first_value():
+    """A physical constant (no conservative end): the reference is the first value listed, and
+    each point's spec carries its own value."""
+    points, reference = study_grid(
+        tiny_spec(), [("manufacture.stitch_tension_N", [0.1, 0.05, 0.2])]
+    )
+    assert points[reference].knobs == {"manufacture.stitch_tension_N": 0.1}
+    assert [p.spec.manufacture.stitch_tension_N for p in points] == [0.1, 0.05, 0.2]
+
+
 @pytest.mark.filterwarnings("error")
 def test_a_study_whose_points_all_failed_writes_its_tables_without_warnings(tmp_path):
     spec = tiny_spec()

@@ -86,6 +86,7 @@ KNOBS = {
     "mat.waviness_amplitude_um": "min",
     "stitch.packing_fraction": "max",
     "contact.bundle_waviness_ratio": "first",
+    "manufacture.stitch_tension_N": "first",
     "mat.seed": "first",
 }
 
