@@ -1,0 +1,94 @@
+"""Example post-processing script: what the stitch does in the shear of finished runs; prints
+one JSON object.
+
+    python runs/stitch_in_shear.py out/run-a out/run-b [--angles 0 1 3 5 10 22.5 45]
+
+Each folder holds a ``results.h5`` with a ``/shear`` group, ``model.data`` and the dump
+``shear.lammpstrj`` (``ncf2lammps run ... --scene shear``). Per run:
+
+- the mean stitch-bond tension at each angle (the nearest record) and its fraction of the
+  manufactured tension;
+- at each dump frame, the stitch's path length (sum of its bond lengths) against its length at
+  the start, beside the length the frame's own (affine) motion would give it: the start's bond
+  vectors mapped in plane by the box's deformation since the start, ``F = H H0^-1`` (H: the
+  in-plane box edges as columns; any recipe and sense), z unchanged; the tilt of the box's b
+  edge from y (the shear angle of a 0/90 frame); and the z extents (1st to 99th percentile of
+  the bead centres, um) of the fibres and of the stitch.
+
+A stitch longer than its affine length is pushed out by the cell (a jammed cell that thickens);
+one at its start length while its tension falls has let the cell yield around it.
+"""
+
+import argparse
+import json
+import warnings
+from pathlib import Path
+
+import MDAnalysis as mda
+import numpy as np
+from MDAnalysis.lib.distances import minimize_vectors
+from MDAnalysis.lib.mdamath import triclinic_vectors
+
+from ncf2lammps.io.datafile import read_data
+from ncf2lammps.io.results import read_results
+
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("runs", type=Path, nargs="+", help="run folders with results.h5")
+parser.add_argument(
+    "--angles", type=float, nargs="+", default=[0, 1, 3, 5, 10, 22.5, 45], help="deg"
+)
+args = parser.parse_args()
+
+
+def stitch_path(folder: Path) -> list[dict]:
+    """Per dump frame: box tilt (deg), path and affine path change, fibre and stitch z extents."""
+    data = read_data(folder / "model.data")
+    stitch_type = data.atom_labels.index("stitch")
+    bonds = data.bonds[np.all(data.type_id[data.bonds] == stitch_type, axis=1)]
+    fibre = data.type_id != stitch_type
+    warnings.simplefilter("ignore", UserWarning)  # the dump has no masses, no time unit
+    universe = mda.Universe(str(folder / "shear.lammpstrj"), format="LAMMPSDUMP")
+    rows, start, edges0 = [], None, None
+    for frame in universe.trajectory:
+        box = frame.dimensions
+        x = universe.atoms.positions.astype(float)
+        vectors = minimize_vectors(x[bonds[:, 1]] - x[bonds[:, 0]], box).astype(float)
+        edges = triclinic_vectors(box).astype(float)[:2, :2].T  # columns a, b (in plane)
+        if start is None:
+            start, edges0 = vectors, edges
+        frame_map = np.eye(3)
+        frame_map[:2, :2] = edges @ np.linalg.inv(edges0)
+        length0 = np.linalg.norm(start, axis=1).sum()
+        rows.append(
+            {
+                "step": int(frame.data.get("step", frame.frame)),
+                "box_tilt_deg": float(90.0 - box[5]),
+                "path_change": float(np.linalg.norm(vectors, axis=1).sum() / length0 - 1),
+                "affine_change": float(
+                    np.linalg.norm(start @ frame_map.T, axis=1).sum() / length0 - 1
+                ),
+                "fibre_extent_um": float(np.ptp(np.percentile(x[fibre, 2], [1, 99]))),
+                "stitch_extent_um": float(np.ptp(np.percentile(x[~fibre, 2], [1, 99]))),
+            }
+        )
+    return rows
+
+
+report = {}
+for folder in args.runs:
+    results = read_results(folder / "results.h5")
+    shear = results["shear"]
+    angle, tension = shear["stitch_angle_deg"], shear["stitch_tension_mean_N"]
+    nearest = [int(np.argmin(np.abs(angle - a))) for a in args.angles]
+    made = float(results["manufacture"]["attrs"]["stitch_tension_N"])
+    if shear["attrs"]["recipe"] != "tilt":
+        parser.error(
+            f"{folder}: shear recipe {shear['attrs']['recipe']!r}; this script maps 'tilt'"
+        )
+    report[str(folder)] = {
+        "manufactured_tension_N": made,
+        "tension_N": {f"{angle[i]:.2f}": float(tension[i]) for i in nearest},
+        "retained": {f"{angle[i]:.2f}": float(tension[i] / made) for i in nearest},
+        "path": stitch_path(folder),
+    }
+print(json.dumps(report, indent=1))
