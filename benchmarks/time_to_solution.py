@@ -27,8 +27,8 @@ TARGET_S = 900.0
 CHECKS = (
     "kinetic_ratio",
     "stitch_tension_error",
-    "max_quasi_static_criterion",
-    "quasi_static_limit",
+    "max_kinetic_stress_ratio",
+    "kinetic_stress_limit",
     "max_kinetic_ratio",
     "max_plate_speed_m_s",
     "max_shear_rate_deg_us",
