@@ -29,6 +29,7 @@ import numpy as np
 from MDAnalysis.lib.distances import minimize_vectors
 from MDAnalysis.lib.mdamath import triclinic_vectors
 
+from ncf2lammps.analysis.trajectory import unique_frames
 from ncf2lammps.io.datafile import read_data
 from ncf2lammps.io.results import read_results
 
@@ -46,31 +47,32 @@ def stitch_path(folder: Path) -> list[dict]:
     stitch_type = data.atom_labels.index("stitch")
     bonds = data.bonds[np.all(data.type_id[data.bonds] == stitch_type, axis=1)]
     fibre = data.type_id != stitch_type
-    warnings.simplefilter("ignore", UserWarning)  # the dump has no masses, no time unit
-    universe = mda.Universe(str(folder / "shear.lammpstrj"), format="LAMMPSDUMP")
-    rows, start, edges0 = [], None, None
-    for frame in universe.trajectory:
-        box = frame.dimensions
-        x = universe.atoms.positions.astype(float)
-        vectors = minimize_vectors(x[bonds[:, 1]] - x[bonds[:, 0]], box).astype(float)
-        edges = triclinic_vectors(box).astype(float)[:2, :2].T  # columns a, b (in plane)
-        if start is None:
-            start, edges0 = vectors, edges
-        frame_map = np.eye(3)
-        frame_map[:2, :2] = edges @ np.linalg.inv(edges0)
-        length0 = np.linalg.norm(start, axis=1).sum()
-        rows.append(
-            {
-                "step": int(frame.data.get("step", frame.frame)),
-                "box_tilt_deg": float(90.0 - box[5]),
-                "path_change": float(np.linalg.norm(vectors, axis=1).sum() / length0 - 1),
-                "affine_change": float(
-                    np.linalg.norm(start @ frame_map.T, axis=1).sum() / length0 - 1
-                ),
-                "fibre_extent_um": float(np.ptp(np.percentile(x[fibre, 2], [1, 99]))),
-                "stitch_extent_um": float(np.ptp(np.percentile(x[~fibre, 2], [1, 99]))),
-            }
-        )
+    with warnings.catch_warnings():  # the dump has no masses and no time unit: not needed
+        warnings.simplefilter("ignore", UserWarning)
+        universe = mda.Universe(str(folder / "shear.lammpstrj"), format="LAMMPSDUMP")
+        rows, start, edges0 = [], None, None
+        for frame in universe.trajectory[unique_frames(universe)]:
+            box = frame.dimensions
+            x = universe.atoms.positions.astype(float)
+            vectors = minimize_vectors(x[bonds[:, 1]] - x[bonds[:, 0]], box).astype(float)
+            edges = triclinic_vectors(box).astype(float)[:2, :2].T  # columns a, b (in plane)
+            if start is None:
+                start, edges0 = vectors, edges
+                length0 = np.linalg.norm(start, axis=1).sum()
+            frame_map = np.eye(3)
+            frame_map[:2, :2] = edges @ np.linalg.inv(edges0)
+            rows.append(
+                {
+                    "step": int(frame.data.get("step", frame.frame)),
+                    "box_tilt_deg": float(90.0 - box[5]),
+                    "path_change": float(np.linalg.norm(vectors, axis=1).sum() / length0 - 1),
+                    "affine_change": float(
+                        np.linalg.norm(start @ frame_map.T, axis=1).sum() / length0 - 1
+                    ),
+                    "fibre_extent_um": float(np.ptp(np.percentile(x[fibre, 2], [1, 99]))),
+                    "stitch_extent_um": float(np.ptp(np.percentile(x[~fibre, 2], [1, 99]))),
+                }
+            )
     return rows
 
 
@@ -81,10 +83,6 @@ for folder in args.runs:
     angle, tension = shear["stitch_angle_deg"], shear["stitch_tension_mean_N"]
     nearest = [int(np.argmin(np.abs(angle - a))) for a in args.angles]
     made = float(results["manufacture"]["attrs"]["stitch_tension_N"])
-    if shear["attrs"]["recipe"] != "tilt":
-        parser.error(
-            f"{folder}: shear recipe {shear['attrs']['recipe']!r}; this script maps 'tilt'"
-        )
     report[str(folder)] = {
         "manufactured_tension_N": made,
         "tension_N": {f"{angle[i]:.2f}": float(tension[i]) for i in nearest},
