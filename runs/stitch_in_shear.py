@@ -21,6 +21,7 @@ one at its start length while its tension falls has let the cell yield around it
 
 import argparse
 import json
+import sys
 import warnings
 from pathlib import Path
 
@@ -75,6 +76,18 @@ def stitch_path(folder: Path) -> list[dict]:
             )
     return rows
 
+
+for folder in args.runs:
+    missing = [
+        n for n in ("results.h5", "model.data", "shear.lammpstrj") if not (folder / n).is_file()
+    ]
+    if missing:
+        print(
+            f"stitch_in_shear.py: error: {folder}: no {', '.join(missing)}; give folders of"
+            " finished shear runs",
+            file=sys.stderr,
+        )
+        sys.exit(2)
 
 report = {}
 for folder in args.runs:
