@@ -74,6 +74,13 @@ def test_a_constant_studied_over_its_range_refers_to_its_first_value():
     assert [p.spec.manufacture.stitch_tension_N for p in points] == [0.1, 0.05, 0.2]
 
 
+def test_the_stitch_yarn_modulus_is_a_constant_studied_from_its_first_value():
+    """stitch.E_GPa has no conservative end: its first value is the reference."""
+    points, reference = study_grid(tiny_spec(), [("stitch.E_GPa", [12.0, 4.3, 1.0])])
+    assert points[reference].knobs == {"stitch.E_GPa": 12.0}
+    assert [p.spec.stitch.E_GPa for p in points] == [12.0, 4.3, 1.0]
+
+
 @pytest.mark.filterwarnings("error")
 def test_a_study_whose_points_all_failed_writes_its_tables_without_warnings(tmp_path):
     spec = tiny_spec()

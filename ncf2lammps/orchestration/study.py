@@ -87,6 +87,7 @@ KNOBS = {
     "stitch.packing_fraction": "max",
     "contact.bundle_waviness_ratio": "first",
     "manufacture.stitch_tension_N": "first",
+    "stitch.E_GPa": "first",
     "mat.seed": "first",
 }
 
