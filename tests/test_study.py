@@ -64,21 +64,17 @@ def test_every_knob_is_a_spec_field_a_grid_can_set():
         assert getattr(getattr(points[0].spec, table), field_name) == value, knob
 
 
-def test_a_constant_studied_over_its_range_refers_to_its_first_value():
+@pytest.mark.parametrize(
+    ("knob", "values"),
+    [("manufacture.stitch_tension_N", [0.1, 0.05, 0.2]), ("stitch.E_GPa", [12.0, 4.3, 1.0])],
+)
+def test_a_constant_studied_over_its_range_refers_to_its_first_value(knob, values):
     """A physical constant (no conservative end): the reference is the first value listed, and
     each point's spec carries its own value."""
-    points, reference = study_grid(
-        tiny_spec(), [("manufacture.stitch_tension_N", [0.1, 0.05, 0.2])]
-    )
-    assert points[reference].knobs == {"manufacture.stitch_tension_N": 0.1}
-    assert [p.spec.manufacture.stitch_tension_N for p in points] == [0.1, 0.05, 0.2]
-
-
-def test_the_stitch_yarn_modulus_is_a_constant_studied_from_its_first_value():
-    """stitch.E_GPa has no conservative end: its first value is the reference."""
-    points, reference = study_grid(tiny_spec(), [("stitch.E_GPa", [12.0, 4.3, 1.0])])
-    assert points[reference].knobs == {"stitch.E_GPa": 12.0}
-    assert [p.spec.stitch.E_GPa for p in points] == [12.0, 4.3, 1.0]
+    points, reference = study_grid(tiny_spec(), [(knob, values)])
+    assert points[reference].knobs == {knob: values[0]}
+    table, field = knob.split(".")
+    assert [getattr(getattr(p.spec, table), field) for p in points] == values
 
 
 @pytest.mark.filterwarnings("error")
