@@ -12,8 +12,10 @@ Each folder holds a ``results.h5`` with a ``/shear`` group, ``model.data`` and t
   the start, beside the length the frame's own (affine) motion would give it: the start's bond
   vectors mapped in plane by the box's deformation since the start, ``F = H H0^-1`` (H: the
   in-plane box edges as columns; any recipe and sense), z unchanged; the tilt of the box's b
-  edge from y (the shear angle of a 0/90 frame); and the z extents (1st to 99th percentile of
-  the bead centres, um) of the fibres and of the stitch.
+  edge from y (the shear angle of a 0/90 frame); the z extents (1st to 99th percentile of
+  the bead centres, um) of the fibres and of the stitch; and, per bead type (each ply, the
+  stitch), the 1st, 50th and 99th percentiles of the bead centres' z (um): where each ply goes
+  (a ply that lofts past the stitch's loops, one that follows its underlaps).
 
 A stitch longer than its affine length is pushed out by the cell (a jammed cell that thickens);
 one at its start length while its tension falls has let the cell yield around it.
@@ -72,6 +74,11 @@ def stitch_path(folder: Path) -> list[dict]:
                     ),
                     "fibre_extent_um": float(np.ptp(np.percentile(x[fibre, 2], [1, 99]))),
                     "stitch_extent_um": float(np.ptp(np.percentile(x[~fibre, 2], [1, 99]))),
+                    "z_percentiles_um": {
+                        label: np.percentile(x[data.type_id == t, 2], [1, 50, 99]).tolist()
+                        for t, label in enumerate(data.atom_labels)
+                        if np.any(data.type_id == t)
+                    },
                 }
             )
     return rows

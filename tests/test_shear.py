@@ -20,6 +20,7 @@ from conftest import (
 
 from ncf2lammps import build_model, prepare, run, run_scenes
 from ncf2lammps.analysis.shear import FORCE_WINDOW, PictureFrame, ShearCurve, work_force
+from ncf2lammps.io.datafile import read_data
 from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
 from ncf2lammps.orchestration.report import write_report
@@ -165,7 +166,9 @@ def test_shear_of_a_stitched_cell_starts_from_the_manufactured_state(coarse_shea
 def test_the_locked_coarse_cell_keeps_its_stitch_tensioned(coarse_sheared):
     """runs/stitch_in_shear.py on the paper's model: its locked cell keeps the stitch at >= 90 %
     of the manufactured tension through the test shear (measured 100-187 % to 22.5 deg on four
-    rates of the same cell), and each dump frame's path and affine path start at 0."""
+    rates of the same cell), each dump frame's path and affine path start at 0, and every frame
+    gives each bead type's z percentiles (p1 <= p50 <= p99) with the plies in their stacking
+    order (the median of ply k below that of ply k + 1: the shear does not swap the plies)."""
     folder, results = coarse_sheared
     script = ROOT / "runs" / "stitch_in_shear.py"
     output = subprocess.run(
@@ -181,6 +184,14 @@ def test_the_locked_coarse_cell_keeps_its_stitch_tensioned(coarse_sheared):
     frames = report["path"]
     assert len(frames) >= 2 and frames[0]["path_change"] == frames[0]["affine_change"] == 0.0
     assert 0.0 < frames[-1]["box_tilt_deg"] <= COARSE_TEST_ANGLE + 0.2
+    labels = read_data(folder / "model.data").atom_labels
+    plies = [label for label in labels if label != "stitch"]
+    for frame in frames:
+        z = frame["z_percentiles_um"]
+        assert list(z) == list(labels)
+        assert all(p1 <= p50 <= p99 for p1, p50, p99 in z.values())
+        medians = [z[label][1] for label in plies]
+        assert medians == sorted(medians)
 
 
 @pytest.mark.lammps
