@@ -379,3 +379,50 @@ def test_both_senses_of_a_tiny_frictionless_mat(tmp_path):
     assert "| asymmetry F_N+(45) / F_N-(45) |" in summary
     assert (tmp_path / "run" / "figures" / "shear_force.png").is_file()
     assert (tmp_path / "run" / "shear_negative_45deg.data").is_file()
+
+
+@pytest.mark.lammps
+def test_confined_shear_reads_the_records_and_adds_frictionless_plates(coarse_sheared, tmp_path):
+    """runs/confined_shear.py. `report` on a free shear: F_N at an angle is the mean of the
+    history's records (nN/um x 1e-3 = N/m) whose angle lies within +-0.5 deg, to rounding.
+    `prepare`: the shear deck gains, before its shear stage, two plates with the compaction's
+    plate law at friction 0, their record aligned with the shear history, and a squeeze of
+    ceil((thickness - gap) / speed / dt) steps plus 20 % hold; a gap not below the manufactured
+    thickness is one line on stderr, exit 2, and no folder."""
+    folder, results = coarse_sheared
+    script = ROOT / "runs" / "confined_shear.py"
+
+    def confined(*args):
+        return subprocess.run(
+            [sys.executable, str(script), *map(str, args)], capture_output=True, text=True
+        )
+
+    report = json.loads(confined("report", folder, "--angles", "10", "20").stdout)[0]
+    history = read_ave_time(folder / "shear.history.txt")
+    box = read_ave_time(folder / "shear.box.txt")
+    angle_at = dict(zip(box["TimeStep"], np.degrees(box["v_g"]), strict=True))
+    angle = np.array([angle_at.get(step, np.nan) for step in history["TimeStep"]])
+    for at in (10, 20):
+        inside = np.abs(angle - at) <= 0.5
+        expected = history["v_fn"][inside].mean() * 1e-3
+        assert report["fn_window_mean_N_per_m"][str(at)] == pytest.approx(expected, rel=1e-12)
+
+    thickness = results["manufacture"]["attrs"]["thickness_mm"] * 1e3
+    refused = confined("prepare", folder, tmp_path / "thick", "--gap-um", thickness + 1)
+    assert refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1
+    assert "--gap-um" in refused.stderr and not (tmp_path / "thick").exists()
+
+    gap, speed = 0.9 * thickness, 0.17
+    made = confined("prepare", folder, tmp_path / "conf", "--gap-um", gap)
+    assert made.returncode == 0, made.stderr
+    deck = (tmp_path / "conf" / "in.shear.lmp").read_text()
+    before, after = deck.split("# stage: shear\n")
+    walls = [ln for ln in before.splitlines() if "wall/gran/region" in ln]
+    assert len(walls) == 2 and all("linear_history" in ln for ln in walls)
+    tangential = [ln.split("tangential")[1].split()[:4] for ln in walls]
+    assert all(float(mu) == 0.0 for _, _, _, mu in tangential)
+    dt = float(before.split("\ntimestep")[1].split()[0])
+    descent = math.ceil((thickness - gap) / speed / dt)
+    assert f"run             {descent + math.ceil(0.2 * descent)}\n" in before
+    period = deck.split("fix             history all ave/time 1 ")[1].split()[:2]
+    assert f"plates all ave/time 1 {period[0]} {period[1]} " in after
