@@ -94,7 +94,7 @@ def _plates(law: str, gap: float | None, thickness: float, speed: float, dt: flo
         lines += [
             "variable        load_rate_held equal $(v_load_rate)",
             "variable        load_rate internal 0.0",
-            "thermo_style    custom step v_ptop v_pbot v_gap v_thickness ke",
+            "thermo_style    custom step v_ptop v_pbot v_gap v_thickness ke pe",
             "thermo          10000",
         ]
         descent = math.ceil((thickness - gap) / speed / dt)
