@@ -117,7 +117,10 @@ def prepare(run: Path, out: Path, gap: float | None, speed_m_s: float) -> dict:
     deck = shear.read_text()
     if STAGE not in deck:
         _refuse(f"{shear} has no '{STAGE.strip()}' line")
-    dt = float(re.search(r"^timestep\s+(\S+)", deck, re.M).group(1))
+    timestep = re.search(r"^timestep\s+(\S+)", deck, re.M)
+    if timestep is None:
+        _refuse(f"{shear} has no 'timestep' line")
+    dt = float(timestep.group(1))
     speed = units.to_micro(speed_m_s, "m_s")
     attrs = read_results(run / "results.h5")["manufacture"]["attrs"]
     thickness = units.to_micro(float(attrs["thickness_mm"]), "mm")
@@ -125,10 +128,9 @@ def prepare(run: Path, out: Path, gap: float | None, speed_m_s: float) -> dict:
         _refuse(f"--gap-um {gap:g} is not below the cell's {thickness:.6g} um")
     block = _plates(_wall_law(compaction.read_text()), gap, thickness, speed, dt)
     history = (
-        "fix             plates all ave/time 1 1480 1480 v_ptop v_pbot v_gap v_thickness"
-        ' file shear.plates.txt format " %.15g"\n'
+        f"fix             plates all ave/time 1 {_history_period(deck)} v_ptop v_pbot v_gap"
+        ' v_thickness file shear.plates.txt format " %.15g"\n'
     )
-    history = history.replace("1480 1480", _history_period(deck))
     out.mkdir(parents=True, exist_ok=False)
     (out / "in.shear.lmp").write_text(deck.replace(STAGE, block + STAGE + history, 1))
     (out / "manufactured.restart").symlink_to(restart.resolve())
