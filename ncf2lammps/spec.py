@@ -473,6 +473,24 @@ class ManufactureSpec:
         unit="-",
         source="kinetic energy / pretension work; docs/design.md §8: < 1 %",
     )
+    stitch_creep_target_per_ms: float | None = _f(
+        None,
+        1e-6,
+        1e3,
+        unit="1/ms",
+        source="None: no creep criterion (the paper's model). The relaxation also waits until the"
+        " stitch's creep, the tension it would lose per ms with the controller off (EA x the"
+        " controller's mean strain rate / tension), is below this; docs/manufacture.md",
+    )
+    creep_window_us: float = _f(
+        1000.0,
+        1.0,
+        1e7,
+        unit="us",
+        source="averaging window of the creep rate, read only with stitch_creep_target_per_ms:"
+        " 50 control times, so that a 1 % tension noise is a tenth of the signal at 0.1/ms"
+        " (docs/manufacture.md)",
+    )
     max_ramp_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
     max_relax_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
     insertion_overlap_tolerance: float = _f(
@@ -815,6 +833,16 @@ def _check_consistency(spec: FabricSpec) -> None:
             "discretisation.bending",
             "cosine",
             "rests at 180 deg only: use 'harmonic' with mat.waviness_amplitude_um > 0",
+        )
+    manufacture = spec.manufacture
+    if (
+        manufacture.stitch_creep_target_per_ms is None
+        and manufacture.creep_window_us != ManufactureSpec().creep_window_us
+    ):
+        raise SpecError(
+            "manufacture.creep_window_us",
+            manufacture.creep_window_us,
+            "is only read with manufacture.stitch_creep_target_per_ms set",
         )
     _check_bundle(spec)
     _check_random_bed(spec)

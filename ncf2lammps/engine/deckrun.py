@@ -20,7 +20,7 @@
                 run n start <start> stop <end> pre <pre> post <"yes" if last chunk else "no">
                 pre = "no"
                 NaN check of ke and pe; on_chunk(stage, step, start, end)
-                if step < before + n: break                     # a fix halt ended the run
+                if step < before + n or a halt fired at step: break   # a fix halt ended the run
                 if every and step % every == 0:
                     write_restart, record the checkpoint; pre = "yes"
         elif line is not empty after its comment is cut:
@@ -32,6 +32,7 @@ resolve against the process's working directory.
 
 from __future__ import annotations
 
+import operator
 import os
 import re
 from collections.abc import Callable
@@ -46,6 +47,46 @@ _STAGE = re.compile(r"^#\s*stage:\s*([\w-]+)")
 _RUN = re.compile(r"^run\s+(\d+)\s*$")
 #: Marks a deck line that must be evaluated afresh when a run is resumed (not journaled values).
 _LIVE = "# resume: live"
+_HALT = re.compile(
+    r"^fix\s+(\S+)\s+\S+\s+halt\s+(\d+)\s+v_(\w+)\s+(<=|>=|==|!=|<|>)\s+"
+    r"([-+0-9.eE]+)\s+error\s+continue\b"
+)
+_UNFIX = re.compile(r"^unfix\s+(\S+)")
+_COMPARE = {
+    "<": operator.lt,
+    "<=": operator.le,
+    ">": operator.gt,
+    ">=": operator.ge,
+    "==": operator.eq,
+    "!=": operator.ne,
+}
+
+
+class _Halts:
+    """The deck's ``fix ID group halt N v_name OP value error continue`` conditions in force.
+
+    LAMMPS ends a run on the step such a halt fires. When that step is also a chunk's last,
+    the chunk ends where it was planned to and only the condition tells that the ``run`` is
+    over: :meth:`fired` evaluates it again there (its fixes and computes are current)."""
+
+    def __init__(self) -> None:
+        self.active: dict[str, tuple[int, str, Callable[[float, float], bool], float]] = {}
+
+    def observe(self, line: str) -> None:
+        """Follow a command as LAMMPS runs it (a halt defined or unfixed)."""
+        if halt := _HALT.match(line):
+            fix_id, every, name, op, value = halt.groups()
+            self.active[fix_id] = (int(every), name, _COMPARE[op], float(value))
+        elif unfix := _UNFIX.match(line):
+            self.active.pop(unfix.group(1), None)
+
+    def fired(self, engine: Engine) -> bool:
+        """Whether a halt's condition holds at this step, one of its checks."""
+        step = engine.step
+        return any(
+            step % every == 0 and compare(engine.variable(name), value)
+            for every, name, compare, value in self.active.values()
+        )
 
 
 def run_deck(
@@ -78,8 +119,9 @@ def run_deck(
 
 def _deck(engine, lines, chunk, on_stage, on_chunk, journal) -> None:
     stage, first = "setup", 0
+    halts = _Halts()
     if journal is not None and journal.resume:
-        stage, first = _resume(engine, journal, chunk, on_chunk)
+        stage, first = _resume(engine, journal, chunk, on_chunk, halts)
     for number, raw in enumerate(lines[first:], start=first):
         marker = _STAGE.match(raw.strip())
         if marker:
@@ -98,7 +140,7 @@ def _deck(engine, lines, chunk, on_stage, on_chunk, journal) -> None:
             end = start + int(match.group(1))
             if journal is not None:
                 journal.run(number, start, end)
-            _run(engine, number, start, end, chunk, stage, on_chunk, journal)
+            _run(engine, number, start, end, chunk, stage, on_chunk, journal, halts)
             if journal is not None:
                 journal.done(number, engine.step)
             continue
@@ -107,19 +149,20 @@ def _deck(engine, lines, chunk, on_stage, on_chunk, journal) -> None:
             journal.command(number, raw.strip() if _LIVE in raw else expanded)
             line = expanded
         engine.command(line)
+        halts.observe(line)
 
 
-def _resume(engine, journal, chunk, on_chunk) -> tuple[str, int]:
+def _resume(engine, journal, chunk, on_chunk, halts) -> tuple[str, int]:
     """Replay the deck up to the last checkpoint, finish its run; returns (stage, next line)."""
-    stage, (_, number, start, end), finished = replay(journal, engine)
+    stage, (_, number, start, end), finished = replay(journal, engine, halts.observe)
     journal.run(number, start, end)
     if not finished:
-        _run(engine, number, start, end, chunk, stage, on_chunk, journal)
+        _run(engine, number, start, end, chunk, stage, on_chunk, journal, halts)
     journal.done(number, engine.step)
     return stage, number + 1
 
 
-def _run(engine, number, start, end, chunk, stage, on_chunk, journal) -> None:
+def _run(engine, number, start, end, chunk, stage, on_chunk, journal, halts) -> None:
     """Run from the current step to ``end`` (of a ``run`` begun at ``start``) in chunks,
     writing a checkpoint at every multiple of the journal's interval."""
     first = True
@@ -136,7 +179,7 @@ def _run(engine, number, start, end, chunk, stage, on_chunk, journal) -> None:
         engine.check_finite(stage)
         if on_chunk is not None:
             on_chunk(stage, engine.step, start, end)
-        if engine.step < before + n:  # halted by a fix halt
+        if engine.step < before + n or halts.fired(engine):  # halted by a fix halt
             break
         if every and engine.step % every == 0:
             journal.checkpoint(stage, number)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import os
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -189,7 +190,9 @@ def _keep_frames(path: Path, step: int) -> None:
     path.write_text("".join(lines[:cut]))
 
 
-def replay(journal: Journal, engine: Engine) -> tuple[str, list, bool]:
+def replay(
+    journal: Journal, engine: Engine, on_command: Callable[[str], None] | None = None
+) -> tuple[str, list, bool]:
     """Rebuild the state at the last checkpoint; returns (stage, the journal's ``R`` entry
     ``[R, line, start, end]`` of the run that wrote it, whether that run had ended there).
 
@@ -199,7 +202,7 @@ def replay(journal: Journal, engine: Engine) -> tuple[str, list, bool]:
     ``read_restart`` of the checkpoint for the first read and without the runs and the
     commands that changed or wrote the state (:data:`_NOT_REPLAYED`); internal variables are
     defined with their checkpointed values; ``fix ave/time``/``print`` files and dumps are
-    appended to.
+    appended to. ``on_command`` sees each command run again.
     """
     state = journal.load()
     step = int(state["step"])
@@ -230,6 +233,8 @@ def replay(journal: Journal, engine: Engine) -> tuple[str, list, bool]:
             text = f"variable {name} internal {state['internal'][name]!r}"
         journal.command(entry[1], entry[2])
         engine.command(_APPEND.sub(r"\1append\2", text))
+        if on_command is not None:
+            on_command(text)
         if words[0] == "dump":
             engine.command(f"dump_modify {words[1]} append yes")
     return stage, holding, bool(finished and finished[0][2] == step)

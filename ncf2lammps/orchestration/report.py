@@ -122,6 +122,7 @@ def _trajectories(directory: Path, scenes) -> list[Path]:
 INDICATORS = (
     ("manufacture", "stitch_tension_error", "tension_tolerance"),
     ("manufacture", "kinetic_ratio", "kinetic_ratio_target"),
+    ("manufacture", "stitch_creep_per_ms", "stitch_creep_target_per_ms"),
     ("compaction", "max_kinetic_stress_ratio", "kinetic_stress_limit"),
     ("compaction", "max_kinetic_ratio", ""),
     ("compaction", "plate_force_imbalance", ""),

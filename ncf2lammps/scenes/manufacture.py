@@ -21,7 +21,7 @@ Stages, in order (templates/manufacture.lmp.j2 marks each with ``# stage:``):
 4. ``relaxation``: an integral controller (``fix controller``) trims the strain to hold the target
    while the cell relaxes; stops when the windowed tension error and the kinetic ratio (kinetic
    energy / work the shrinking stitch has done since the ramp began, docs/design.md §8) are below their
-   thresholds; writes ``manufactured.restart`` and ``manufactured.data``.
+   thresholds, and with ``stitch_creep_target_per_ms`` the stitch's creep too; writes ``manufactured.restart`` and ``manufactured.data``.
 """
 
 from __future__ import annotations
@@ -183,8 +183,37 @@ def deck_values(run: Prepared) -> dict:
         "kinetic_ratio_target": settings.kinetic_ratio_target,
         "relax_steps": settings.max_relax_steps,
         "history_every": CONTROL_EVERY * WINDOW // 2,
+        "creep": _creep_values(run),
         "pushoff": _pushoff_values(run) if spec.mat.arrangement == "random" else None,
         "rest_lengths_file": rest_lengths_file(spec),
+    }
+
+
+def stitch_axial_stiffness(model: Model) -> float:
+    """The stitch yarn's E A (nN): the mean over its bond types (one yarn, equal to rounding)."""
+    return float(np.mean([t.axial_stiffness for t in model.bond_types if t.role == "stitch"]))
+
+
+def _creep_values(run: Prepared) -> dict | None:
+    """The relaxation's creep criterion, None without ``manufacture.stitch_creep_target_per_ms``.
+
+    The controller's strain increment per control interval, averaged over ``every`` steps
+    (``creep_window_us`` rounded up to whole convergence windows; the relaxation's halt checks
+    once per such window, so that a resumed run's first check sees a full one), times ``scale``
+    (1/us per increment, ``EA / (T control_every dt)``) is the creep: the tension the stitch
+    would lose per us if its rest length stopped following the bed. ``target`` in 1/us."""
+    settings = run.spec.manufacture
+    if settings.stitch_creep_target_per_ms is None:
+        return None
+    dt = run.time_step.dt
+    tension = units.to_micro(settings.stitch_tension_N, "N")
+    stiffness = stitch_axial_stiffness(run.simulated)
+    windows = math.ceil(settings.creep_window_us / (CONTROL_EVERY * WINDOW * dt))
+    return {
+        "outputs": windows,
+        "every": CONTROL_EVERY * WINDOW * windows,
+        "scale": stiffness / (tension * CONTROL_EVERY * dt),
+        "target": settings.stitch_creep_target_per_ms / units.to_micro(1.0, "ms"),
     }
 
 
@@ -227,7 +256,8 @@ def _pushoff_values(run: Prepared) -> dict:
 def _periods(values: dict) -> tuple[int, ...]:
     """Recording and control periods (steps) of the manufacture deck."""
     every = values["control_every"]
-    return (values["history_every"], every, every * values["window"])
+    creep = (values["creep"]["every"],) if values["creep"] else ()
+    return (values["history_every"], every, every * values["window"], *creep)
 
 
 def _check_channels_and_overlap(engine: Engine, run: Prepared) -> dict:
@@ -319,6 +349,18 @@ def _final_rate(time: np.ndarray, value: np.ndarray) -> float:
     return float(np.polyfit(time[last], value[last], 1)[0]) if len(time) > 1 else math.nan
 
 
+def _final_creep(run: Prepared, final: dict, strain_rate: float) -> float:
+    """The stitch's creep at the stop (1/ms): the tension it would lose per ms with its rest
+    length frozen, ``EA / T`` x the strain rate; the deck's own windowed value with
+    ``stitch_creep_target_per_ms`` (what the criterion read), else from ``strain_rate`` (1/us,
+    the fit over the last :data:`CREEP_ROWS` history rows)."""
+    per_us = final.get("creep")
+    if per_us is None:
+        tension = units.to_micro(run.spec.manufacture.stitch_tension_N, "N")
+        per_us = abs(strain_rate) * stitch_axial_stiffness(run.simulated) / tension
+    return float(per_us * units.to_micro(1.0, "ms"))
+
+
 def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
     """(attrs, datasets) of /manufacture from the scene's files in ``directory``."""
     spec = run.spec
@@ -328,6 +370,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
     checks = directory / CHECKS_FILE
     target = spec.manufacture.stitch_tension_N
     tension = units.from_micro(final["tension"], "N")
+    strain_rate = _final_rate(history["v_time"], history["v_strain"])
     attrs = {
         "steps": int(final["step"]),
         "thickness_mm": units.from_micro(final["thickness"], "mm"),
@@ -339,7 +382,13 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         "kinetic_ratio_target": spec.manufacture.kinetic_ratio_target,
         "pretension_work_J": units.from_micro(final["work"], "J"),
         "stitch_strain": final["strain"],
-        "stitch_strain_rate_per_us": _final_rate(history["v_time"], history["v_strain"]),
+        "stitch_strain_rate_per_us": strain_rate,
+        "stitch_creep_per_ms": _final_creep(run, final, strain_rate),
+        **(
+            {"stitch_creep_target_per_ms": spec.manufacture.stitch_creep_target_per_ms}
+            if spec.manufacture.stitch_creep_target_per_ms is not None
+            else {}
+        ),
         **(json.loads(checks.read_text()) if checks.is_file() else {}),
     }
     datasets = {
