@@ -72,6 +72,7 @@ def test_new_keys_refuse_values_outside_their_range(table, key, bad, range_text)
             },
             "contact.fibre_stitch_friction",
         ),
+        ({"manufacture": {"creep_window_us": 500.0}}, "manufacture.creep_window_us"),
     ],
 )
 def test_inconsistent_options_are_refused_by_field(tables, field):
@@ -87,6 +88,7 @@ def test_defaults_are_the_papers_model():
     assert spec.mat.waviness_amplitude_um == 0.0
     assert spec.stitch.packing_fraction == 1.0
     assert spec.contact.fibre_stitch_friction is None
+    assert spec.manufacture.stitch_creep_target_per_ms is None
     model = build_model(spec)
     assert model.n_angles == 0 and model.angle_style == "none"
 

@@ -146,6 +146,29 @@ def test_resume_restores_a_feedback_controller_exactly(tmp_path):
     assert resumed == pytest.approx(unbroken, rel=1e-12)
 
 
+HALTED_DECK = """units lj
+read_data one_atom.data
+variable now equal step
+fix stop all halt 100 v_now >= 300 error continue message no
+run 1000
+unfix stop
+run 50
+"""
+
+
+@pytest.mark.lammps
+@pytest.mark.parametrize("chunk", [100, 70])
+def test_a_run_ends_on_its_halt_also_at_a_chunks_last_step(tmp_path, chunk):
+    """``fix halt ... error continue`` ends its ``run`` at step 300 as in plain LAMMPS, whether
+    that step ends a chunk (chunks of 100: the chunk runs to its planned end, and only the
+    condition tells) or falls inside one (chunks of 70); the deck then goes on (50 steps)."""
+    (tmp_path / "one_atom.data").write_text(ONE_ATOM)
+    (tmp_path / "in.halted.lmp").write_text(HALTED_DECK)
+    with chdir(tmp_path), Engine(log=None) as engine:
+        run_deck(engine, "in.halted.lmp", chunk)
+        assert engine.step == 350
+
+
 @pytest.mark.lammps
 def test_fast_contact_style_gives_the_general_styles_forces(
     coarse_manufactured, tmp_path, monkeypatch

@@ -5,11 +5,11 @@ from __future__ import annotations
 import h5py
 import numpy as np
 import pytest
-from conftest import case_spec
+from conftest import case_spec, tiny_spec
 
 from ncf2lammps.io.datafile import read_data
 from ncf2lammps.io.results import read_results
-from ncf2lammps.scenes.manufacture import needle_axes
+from ncf2lammps.scenes.manufacture import deck_values, needle_axes
 
 
 @pytest.fixture(scope="module")
@@ -95,6 +95,48 @@ def test_manufactured_state_keeps_the_model(manufactured):
     # LAMMPS write_data prints coefficients with 6 digits; the test scenes start from the
     # full-precision restart file instead.
     np.testing.assert_allclose(after.bond_coeffs[fibre], before.bond_coeffs[fibre], rtol=1e-5)
+
+
+CREEP = {"stitch_creep_target_per_ms": 1.0, "creep_window_us": 50.0}
+
+
+def test_creep_criterion_reads_the_yarns_stiffness_and_whole_windows():
+    """The deck's creep is the controller's mean strain increment x EA / (T control_every dt),
+    EA = E x linear density / density of the spec's yarn (66.09 N for 76 dtex PES at 12 GPa),
+    checked once per window of whole convergence windows covering ``creep_window_us``."""
+    from ncf2lammps.numerics import prepare
+
+    spec = tiny_spec(manufacture=CREEP)
+    run = prepare(spec)
+    creep, dt = deck_values(run)["creep"], run.time_step.dt
+    stitch = spec.stitch
+    stiffness_N = (
+        stitch.E_GPa * 1e9 * stitch.linear_density_dtex * 1e-7 / (stitch.density_g_cm3 * 1e3)
+    )
+    assert stiffness_N == pytest.approx(66.09, rel=1e-3)
+    tension_N = spec.manufacture.stitch_tension_N
+    assert creep["scale"] == pytest.approx(stiffness_N / (tension_N * 10 * dt), rel=1e-9)
+    assert creep["target"] == pytest.approx(1e-3)  # 1 per ms in 1/us
+    assert creep["every"] % 200 == 0
+    assert 50.0 <= creep["every"] * dt < 50.0 + 200 * dt
+    assert deck_values(prepare(tiny_spec()))["creep"] is None
+
+
+@pytest.mark.lammps
+def test_relaxation_ends_at_a_creep_check_below_its_target(tmp_path):
+    """With ``stitch_creep_target_per_ms`` the relaxation ends on one of its creep checks (a
+    multiple of the creep window) at which the stitch creeps below the target, with the tension
+    within its tolerance; /manufacture records the deck's creep and the target."""
+    from ncf2lammps import run
+    from ncf2lammps.numerics import prepare
+
+    spec = tiny_spec(manufacture=CREEP)
+    run(spec, tmp_path / "run", scenes=["manufacture"])
+    attrs = read_results(tmp_path / "run" / "results.h5")["manufacture"]["attrs"]
+    assert attrs["stitch_creep_target_per_ms"] == 1.0
+    assert 0.0 <= attrs["stitch_creep_per_ms"] < 1.0
+    assert abs(attrs["stitch_tension_error"]) < spec.manufacture.tension_tolerance
+    assert attrs["steps"] % deck_values(prepare(spec))["creep"]["every"] == 0
 
 
 def test_needle_axes_include_periodic_images():
