@@ -70,6 +70,7 @@ KNOBS = {
     "manufacture.damping_time_us": "max",
     "manufacture.relaxation_damping_time_us": "max",
     "manufacture.kinetic_ratio_target": "min",
+    "manufacture.stitch_creep_target_per_ms": "min",
     "manufacture.needle_speed_m_s": "min",
     "compaction.inertial_number": "min",
     "compaction.plate_speed_m_s": "min",
