@@ -488,8 +488,7 @@ class ManufactureSpec:
         1e7,
         unit="us",
         source="averaging window of the creep rate, read only with stitch_creep_target_per_ms:"
-        " 50 control times, so that a 1 % tension noise is a tenth of the signal at 0.1/ms"
-        " (docs/manufacture.md)",
+        " 50 control times, long against the controller's response (docs/manufacture.md)",
     )
     max_ramp_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
     max_relax_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")

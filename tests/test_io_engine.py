@@ -170,6 +170,38 @@ def test_a_run_ends_on_its_halt_also_at_a_chunks_last_step(tmp_path, chunk):
 
 
 @pytest.mark.lammps
+def test_a_resumed_run_ends_on_a_halt_defined_before_its_checkpoint(tmp_path):
+    """Killed at step 250 (last checkpoint 200) and resumed, the deck ends its run on the halt
+    at step 300, a chunk's last step, which the driver knows from the replayed commands."""
+    (tmp_path / "one_atom.data").write_text(ONE_ATOM)
+    (tmp_path / "in.halted.lmp").write_text(HALTED_DECK)
+
+    def kill_at_250(stage, step, start, end):
+        if step >= 250:
+            raise _Killed
+
+    with chdir(tmp_path), Engine(log=None) as engine, pytest.raises(_Killed):
+        checkpoints = Checkpoints("halted", every=100, resume=False)
+        run_deck(engine, "in.halted.lmp", 50, on_chunk=kill_at_250, checkpoint=checkpoints)
+    with chdir(tmp_path), Engine(log=None) as engine:
+        checkpoints = Checkpoints("halted", every=100, resume=True)
+        run_deck(engine, "in.halted.lmp", 50, checkpoint=checkpoints)
+        assert engine.step == 350
+
+
+@pytest.mark.lammps
+def test_a_continue_halt_the_driver_cannot_read_is_refused(tmp_path):
+    """A continue-halt on a variable's expression, not ``v_name OP number``, would end a chunked
+    run one check late: the driver refuses it by its line."""
+    from ncf2lammps.engine import EngineError
+
+    (tmp_path / "one_atom.data").write_text(ONE_ATOM)
+    (tmp_path / "in.bad.lmp").write_text(HALTED_DECK.replace("v_now >= 300", "v_now >= v_now"))
+    with chdir(tmp_path), Engine(log=None) as engine, pytest.raises(EngineError, match="halt"):
+        run_deck(engine, "in.bad.lmp", 100)
+
+
+@pytest.mark.lammps
 def test_fast_contact_style_gives_the_general_styles_forces(
     coarse_manufactured, tmp_path, monkeypatch
 ):

@@ -38,7 +38,7 @@ import re
 from collections.abc import Callable
 from pathlib import Path
 
-from .core import Engine
+from .core import Engine, EngineError
 from .journal import Checkpoints, Journal, replay, strip_comment
 
 __all__ = ["run_deck"]
@@ -52,6 +52,7 @@ _HALT = re.compile(
     r"([-+0-9.eE]+)\s+error\s+continue\b"
 )
 _UNFIX = re.compile(r"^unfix\s+(\S+)")
+_FIX = re.compile(r"^fix\s+(\S+)\s")
 _COMPARE = {
     "<": operator.lt,
     "<=": operator.le,
@@ -73,12 +74,19 @@ class _Halts:
         self.active: dict[str, tuple[int, str, Callable[[float, float], bool], float]] = {}
 
     def observe(self, line: str) -> None:
-        """Follow a command as LAMMPS runs it (a halt defined or unfixed)."""
+        """Follow a command as LAMMPS runs it (a halt defined, a fix ID redefined or unfixed).
+        Raises EngineError on a continue-halt it cannot evaluate again."""
         if halt := _HALT.match(line):
             fix_id, every, name, op, value = halt.groups()
             self.active[fix_id] = (int(every), name, _COMPARE[op], float(value))
-        elif unfix := _UNFIX.match(line):
-            self.active.pop(unfix.group(1), None)
+        elif fix := _FIX.match(line) or _UNFIX.match(line):
+            self.active.pop(fix.group(1), None)
+            words = line.split()
+            if "halt" in words[3:4] and "continue" in words:
+                raise EngineError(
+                    f"deck line {line!r}: a 'fix ID group halt N v_name OP number error"
+                    " continue' is the form the driver can end a chunked run on"
+                )
 
     def fired(self, engine: Engine) -> bool:
         """Whether a halt's condition holds at this step, one of its checks."""

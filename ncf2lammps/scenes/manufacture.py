@@ -21,7 +21,8 @@ Stages, in order (templates/manufacture.lmp.j2 marks each with ``# stage:``):
 4. ``relaxation``: an integral controller (``fix controller``) trims the strain to hold the target
    while the cell relaxes; stops when the windowed tension error and the kinetic ratio (kinetic
    energy / work the shrinking stitch has done since the ramp began, docs/design.md §8) are below their
-   thresholds, and with ``stitch_creep_target_per_ms`` the stitch's creep too; writes ``manufactured.restart`` and ``manufactured.data``.
+   thresholds, and with ``stitch_creep_target_per_ms`` the stitch's creep too; writes
+   ``manufactured.restart`` and ``manufactured.data``.
 """
 
 from __future__ import annotations
@@ -189,7 +190,7 @@ def deck_values(run: Prepared) -> dict:
     }
 
 
-def stitch_axial_stiffness(model: Model) -> float:
+def _stitch_axial_stiffness(model: Model) -> float:
     """The stitch yarn's E A (nN): the mean over its bond types (one yarn, equal to rounding)."""
     return float(np.mean([t.axial_stiffness for t in model.bond_types if t.role == "stitch"]))
 
@@ -198,16 +199,18 @@ def _creep_values(run: Prepared) -> dict | None:
     """The relaxation's creep criterion, None without ``manufacture.stitch_creep_target_per_ms``.
 
     The controller's strain increment per control interval, averaged over ``every`` steps
-    (``creep_window_us`` rounded up to whole convergence windows; the relaxation's halt checks
-    once per such window, so that a resumed run's first check sees a full one), times ``scale``
-    (1/us per increment, ``EA / (T control_every dt)``) is the creep: the tension the stitch
-    would lose per us if its rest length stopped following the bed. ``target`` in 1/us."""
+    (``creep_window_us`` rounded up to whole convergence windows, so that the relaxation's halt,
+    once per such window, reads the convergence fix at a step it is computed; ``every`` is one
+    of the deck's periods, so a checkpoint falls on a window's end and a resumed run's first
+    check sees a whole window), times ``scale`` (1/us per increment, ``EA / (T control_every
+    dt)``) is the creep: the tension the stitch would lose per us if its rest length stopped
+    following the bed. ``target`` in 1/us."""
     settings = run.spec.manufacture
     if settings.stitch_creep_target_per_ms is None:
         return None
     dt = run.time_step.dt
     tension = units.to_micro(settings.stitch_tension_N, "N")
-    stiffness = stitch_axial_stiffness(run.simulated)
+    stiffness = _stitch_axial_stiffness(run.simulated)
     windows = math.ceil(settings.creep_window_us / (CONTROL_EVERY * WINDOW * dt))
     return {
         "outputs": windows,
@@ -357,7 +360,7 @@ def _final_creep(run: Prepared, final: dict, strain_rate: float) -> float:
     per_us = final.get("creep")
     if per_us is None:
         tension = units.to_micro(run.spec.manufacture.stitch_tension_N, "N")
-        per_us = abs(strain_rate) * stitch_axial_stiffness(run.simulated) / tension
+        per_us = abs(strain_rate) * _stitch_axial_stiffness(run.simulated) / tension
     return float(per_us * units.to_micro(1.0, "ms"))
 
 
