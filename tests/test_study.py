@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import csv
+import json
 import shutil
+import signal
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -226,3 +229,68 @@ def test_study_asked_for_more_scenes_runs_them_on_the_kept_manufacture(compactio
     assert row["status"] == "ok (reused manufacture)"
     assert row["stitch_tension_N"] == first[0]["stitch_tension_N"]
     assert float(row["thickness_at_1kPa_mm"]) > 0
+
+
+def _checkpoint_step(path) -> int:
+    try:
+        return json.loads(path.read_text())["step"]
+    except (OSError, ValueError, KeyError):
+        return -1
+
+
+def _kill_when_checkpointed(command: list[str], pattern: str, root) -> None:
+    """Start ``command``; SIGKILL it once a file matching ``pattern`` under ``root`` records a
+    checkpoint past step 0."""
+    process = subprocess.Popen(command, stderr=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
+    deadline = time.monotonic() + 600
+    while process.poll() is None and not any(_checkpoint_step(p) > 0 for p in root.glob(pattern)):
+        assert time.monotonic() < deadline
+        time.sleep(0.1)
+    assert process.poll() is None, "the study ended before it could be killed"
+    process.send_signal(signal.SIGKILL)
+    process.wait()
+
+
+@pytest.fixture(scope="module")
+def killed_study(tmp_path_factory):
+    """A two-point study of the compaction rate on the tiny cell, checkpointing every 2,000
+    steps, killed (SIGKILL) twice, each time after a checkpoint: in the first point's
+    manufacture (its own folder), then in the second point's compaction (a temporary copy of
+    the first point's manufactured state); then run again to the end."""
+    tmp = tmp_path_factory.mktemp("killed_study")
+    spec = tiny_spec(
+        compaction={"final_fvf": 0.35, "end": "final_fvf"},
+        output={"checkpoint_every_steps": 2000},
+    )
+    write_spec(tmp / "spec.toml", spec)
+    folder = tmp / "study"
+    command = [sys.executable, "-m", "ncf2lammps.cli", "study", str(tmp / "spec.toml")]
+    command += ["-o", str(folder), "--vary", "compaction.inertial_number=0.8,0.4"]
+    command += ["--scene", "manufacture", "--scene", "compaction"]
+    _kill_when_checkpointed(command, "points/p00/manufacture.checkpoint.json", folder)
+    killed_in_own_folder = read_results(folder / "points" / "p00" / "results.h5")
+    _kill_when_checkpointed(command, "points/p01.partial-*/compaction.checkpoint.json", folder)
+    partials = sorted(p.name for p in (folder / "points").glob("p01.partial-*"))
+    out = subprocess.run(command, capture_output=True, text=True)
+    return folder, killed_in_own_folder, partials, out
+
+
+@pytest.mark.lammps
+def test_a_killed_study_resumes_each_killed_point_from_its_checkpoint(killed_study):
+    """Killed in a point's own folder or in a point's temporary folder, the point continues
+    from its checkpoint (`resumed` in its scene's attributes; status `ok (resumed)` in the run
+    that finishes it); no temporary folder is left."""
+    folder, killed, partials, out = killed_study
+    assert out.returncode == 0, out.stderr
+    assert not killed["attrs"]["complete"] and "manufacture" not in killed
+    assert len(partials) == 1  # the second kill left the temporary folder
+    rows = list(csv.DictReader(open(folder / "study.csv")))
+    # The first point finished in the second run: the third reuses it.
+    assert [r["status"] for r in rows] == ["ok (reused)", "ok (resumed)"]
+    first = read_results(folder / "points" / "p00" / "results.h5")
+    second = read_results(folder / "points" / "p01" / "results.h5")
+    assert first["manufacture"]["attrs"]["resumed"] and second["compaction"]["attrs"]["resumed"]
+    # The second point's own compaction (at half the first's rate), not the copied one.
+    assert second["compaction"]["attrs"]["steps"] > first["compaction"]["attrs"]["steps"]
+    assert bool(first["attrs"]["complete"]) and bool(second["attrs"]["complete"])
+    assert not list((folder / "points").glob("*.partial-*"))

@@ -72,6 +72,11 @@ class Checkpoints:
         state = json.loads(path.read_text())
         return state if (Path(directory) / state["restart"]).is_file() else None
 
+    def clear(self, directory: str | os.PathLike = ".") -> None:
+        """Remove this deck's checkpoint record and restart files from ``directory``."""
+        for old in Path(directory).glob(f"{self.name}.checkpoint.*"):
+            old.unlink()
+
 
 class Journal:
     """Commands as LAMMPS expanded them, runs and their ends, stage markers: one JSON list a
@@ -90,8 +95,7 @@ class Journal:
         self.fh = None
         if not checkpoints.resume:
             if self.writer:
-                for old in Path().glob(f"{self.name}.checkpoint.*"):
-                    old.unlink()
+                checkpoints.clear()
             self.reopen()
 
     def reopen(self) -> None:

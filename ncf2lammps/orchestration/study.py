@@ -6,12 +6,13 @@ Stages of :func:`study`:
    every point's spec validated before anything runs; the reference is the point whose knobs
    all sit at their conservative end (:data:`KNOBS`: finest, slowest, unscaled);
 2. each point runs in ``points/pNN`` like ``ncf2lammps run``; a point whose results are
-   complete for the same spec is reused (a killed study resumes); a point whose folder holds
-   a finished manufacture of the same model and settings (say, from a study run with other
-   compaction settings) keeps it, and each test scene that finished with the same table, and
-   runs only the rest; a point whose model and manufacture settings equal an earlier point's
-   starts from a copy of that manufactured state and runs only the test scenes (wall times
-   still count the scenes reused);
+   complete for the same spec is reused, and one killed while it ran resumes from its
+   checkpoint (status ``ok (resumed)``; its wall time then counts the resumed part only); a
+   point whose folder holds a finished manufacture of the same model and settings (say, from
+   a study run with other compaction settings) keeps it, and each test scene that finished
+   with the same table, and runs only the rest; a point whose model and manufacture settings
+   equal an earlier point's starts from a copy of that manufactured state and runs only the
+   test scenes (wall times still count the scenes reused);
 3. the table: each output (:data:`OUTPUTS`), its relative error against the reference, the
    largest error, wall time, steps and the Pareto front (no faster point is as accurate):
    ``study.csv``, ``study.md`` and ``study.png``, written last.
@@ -35,7 +36,7 @@ import numpy as np
 
 from ..analysis.plots import plot_study
 from ..analysis.study import pareto_front, relative_errors
-from ..engine import EngineError
+from ..engine import Checkpoints, EngineError
 from ..geometry.size import check_model_size
 from ..io.results import ResultsFileError, mark_complete, read_results, update_root
 from ..io.spectoml import dumps_spec, write_spec
@@ -271,6 +272,38 @@ def _reusable_scenes(directory: Path, spec: FabricSpec, scenes: Sequence[str]) -
     return set(scenes) & finished & same
 
 
+def _is_killed_run(directory: Path, spec: FabricSpec) -> bool:
+    """Whether ``directory`` holds a run of ``spec`` that stopped before it was complete."""
+    stored = _stored_run(directory)
+    return stored is not None and not stored[2] and stored[0] == dumps_spec(spec)
+
+
+def _process_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _killed_partial(directory: Path, spec: FabricSpec) -> Path | None:
+    """The newest temporary folder of ``directory`` left by a killed study (its process gone)
+    while running ``spec``; the other temporary folders of killed studies are removed."""
+    found = None
+    siblings = directory.parent.glob(f"{directory.name}.partial-*")
+    for path in sorted(siblings, key=lambda p: p.stat().st_mtime, reverse=True):
+        pid = path.name.rpartition("-")[2]
+        if not pid.isdigit() or _process_alive(int(pid)):
+            continue
+        if found is None and _is_killed_run(path, spec):
+            found = path
+        else:
+            shutil.rmtree(path, ignore_errors=True)
+    return found
+
+
 def _run_from_manufactured(
     point: StudyPoint,
     source: Path,
@@ -278,23 +311,36 @@ def _run_from_manufactured(
     scenes: Sequence[str],
     ranks: int = 1,
     keep: Sequence[str] = ("manufacture",),
-) -> None:
+) -> bool:
     """Copy ``source`` (manufactured) to ``directory`` and run the ``scenes`` not in ``keep``
-    there, on ``ranks`` MPI ranks (``directory`` may be ``source``: replaced when done)."""
+    there, on ``ranks`` MPI ranks (``directory`` may be ``source``: replaced when done).
+
+    A temporary folder that a killed study left while running this point is taken up instead
+    of the copy: each scene to run resumes from its own checkpoint there, if it wrote one (the
+    copy drops the source's checkpoints of those scenes). Returns whether it was.
+    """
     partial = directory.with_name(f"{directory.name}.partial-{os.getpid()}")
     shutil.rmtree(partial, ignore_errors=True)
-    shutil.copytree(source, partial)
+    killed = _killed_partial(directory, point.spec)
+    if killed is not None:
+        killed.rename(partial)
+    else:
+        shutil.copytree(source, partial)
+    todo = [s for s in scenes if s not in keep]
     try:
-        write_spec(partial / "spec.resolved.toml", point.spec)
         results = partial / "results.h5"
-        update_root(
-            results,
-            {
-                "spec_toml": dumps_spec(point.spec),
-                "created": datetime.now(UTC).isoformat(timespec="seconds"),
-            },
-        )
-        run_scenes(point.spec, partial, [s for s in scenes if s not in keep], ranks=ranks)
+        if killed is None:
+            for scene in todo:
+                Checkpoints(scene).clear(partial)
+            write_spec(partial / "spec.resolved.toml", point.spec)
+            update_root(
+                results,
+                {
+                    "spec_toml": dumps_spec(point.spec),
+                    "created": datetime.now(UTC).isoformat(timespec="seconds"),
+                },
+            )
+        run_scenes(point.spec, partial, todo, ranks=ranks, resume=killed is not None)
         mark_complete(results)
         shutil.rmtree(directory, ignore_errors=True)
         partial.rename(directory)
@@ -302,6 +348,7 @@ def _run_from_manufactured(
         shutil.rmtree(partial, ignore_errors=True)
         raise
     write_report(directory)  # a run folder by now: report refuses temporary build folders
+    return killed is not None
 
 
 def _point_row(directory: Path, scenes: Sequence[str]) -> dict:
@@ -350,11 +397,16 @@ def study(
         try:
             if _is_complete(folder, point.spec, wanted):
                 status = "ok (reused)"
+            elif _is_killed_run(folder, point.spec):
+                run(point.spec, folder, wanted, ranks=ranks, resume=True)
+                status = "ok (resumed)"
             elif keep := _reusable_scenes(folder, point.spec, wanted):
-                _run_from_manufactured(point, folder, folder, wanted, ranks, sorted(keep))
-                status = f"ok (reused {', '.join(s for s in wanted if s in keep)})"
+                resumed = _run_from_manufactured(point, folder, folder, wanted, ranks, sorted(keep))
+                reused = ", ".join(s for s in wanted if s in keep)
+                status = f"ok (reused {reused}{', resumed' if resumed else ''})"
             elif (key := _manufacture_key(point.spec)) in manufactured and "manufacture" in wanted:
-                _run_from_manufactured(point, manufactured[key], folder, wanted, ranks)
+                if _run_from_manufactured(point, manufactured[key], folder, wanted, ranks):
+                    status = "ok (resumed)"
             else:
                 run(point.spec, folder, wanted, force=True, ranks=ranks)
             row = _point_row(folder, wanted)
