@@ -15,7 +15,7 @@ from MDAnalysis.lib.distances import self_capped_distance
 
 import ncf2lammps.orchestration.run as orchestration_run
 from ncf2lammps import load_spec, spec_from_dict
-from ncf2lammps.engine import Engine
+from ncf2lammps.engine import Checkpoints, Engine
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -252,6 +252,12 @@ def coarse_manufactured(tmp_path_factory):
         run(case_spec("hpt310-coarse"), folder, scenes=["manufacture"])
 
     return shared_folder(tmp_path_factory, "coarse-manufactured", manufacture)
+
+
+def checkpoint_step(folder: Path, deck: str) -> int:
+    """Step of the last checkpoint of ``deck`` in ``folder``; -1 before the first."""
+    state = Checkpoints(deck).state(folder)
+    return -1 if state is None else state["step"]
 
 
 def copy_run(folder: Path, destination: Path) -> Path:

@@ -15,7 +15,6 @@ scatters by ~7 % between manufactured cells that differ only by round-off, the q
 
 from __future__ import annotations
 
-import json
 import signal
 import subprocess
 import sys
@@ -24,7 +23,7 @@ from pathlib import Path
 
 import h5py
 import pytest
-from conftest import case_spec, copy_run
+from conftest import case_spec, checkpoint_step, copy_run
 
 from ncf2lammps import run_scenes
 from ncf2lammps.io.results import read_results
@@ -107,13 +106,6 @@ def test_one_and_two_ranks_agree(reference, coarse_manufactured, tmp_path):
         assert got == pytest.approx(want, rel=0.02)
 
 
-def _checkpoint_step(folder: Path, scene: str) -> int:
-    try:
-        return json.loads((folder / f"{scene}.checkpoint.json").read_text())["step"]
-    except (OSError, ValueError, KeyError):
-        return -1
-
-
 @pytest.fixture(scope="module")
 def killed_and_resumed(tmp_path_factory):
     """Folder of a run killed (SIGKILL) in manufacture's relaxation stage, checked, resumed."""
@@ -125,7 +117,7 @@ def killed_and_resumed(tmp_path_factory):
     command += ["--scene", "compaction"]
     process = subprocess.Popen(command, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 600
-    while _checkpoint_step(folder, "manufacture") < 100_000 and process.poll() is None:
+    while checkpoint_step(folder, "manufacture") < 100_000 and process.poll() is None:
         assert time.monotonic() < deadline
         time.sleep(0.2)
     process.send_signal(signal.SIGKILL)
@@ -133,7 +125,7 @@ def killed_and_resumed(tmp_path_factory):
     with h5py.File(folder / "results.h5") as fh:
         killed = {"complete": bool(fh.attrs["complete"]), "manufacture": "manufacture" in fh}
     killed["summary"] = (folder / "summary.md").exists()
-    killed["step"] = _checkpoint_step(folder, "manufacture")
+    killed["step"] = checkpoint_step(folder, "manufacture")
     out = cli("run", str(spec_file), "-o", str(folder), "--scene", "compaction", "--resume")
     return folder, killed, out
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import csv
-import json
 import shutil
 import signal
 import subprocess
@@ -12,7 +11,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import tiny_spec
+from conftest import checkpoint_step, tiny_spec
 
 from ncf2lammps.analysis.study import pareto_front, relative_errors
 from ncf2lammps.io.results import read_results
@@ -231,19 +230,14 @@ def test_study_asked_for_more_scenes_runs_them_on_the_kept_manufacture(compactio
     assert float(row["thickness_at_1kPa_mm"]) > 0
 
 
-def _checkpoint_step(path) -> int:
-    try:
-        return json.loads(path.read_text())["step"]
-    except (OSError, ValueError, KeyError):
-        return -1
-
-
-def _kill_when_checkpointed(command: list[str], pattern: str, root) -> None:
-    """Start ``command``; SIGKILL it once a file matching ``pattern`` under ``root`` records a
-    checkpoint past step 0."""
+def _kill_when_checkpointed(command: list[str], root, folders: str, deck: str) -> None:
+    """Start ``command``; SIGKILL it once ``deck`` has a checkpoint past step 0 in a folder
+    matching ``folders`` under ``root``."""
     process = subprocess.Popen(command, stderr=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
     deadline = time.monotonic() + 600
-    while process.poll() is None and not any(_checkpoint_step(p) > 0 for p in root.glob(pattern)):
+    while process.poll() is None and not any(
+        checkpoint_step(path, deck) > 0 for path in root.glob(folders)
+    ):
         assert time.monotonic() < deadline
         time.sleep(0.1)
     assert process.poll() is None, "the study ended before it could be killed"
@@ -267,9 +261,9 @@ def killed_study(tmp_path_factory):
     command = [sys.executable, "-m", "ncf2lammps.cli", "study", str(tmp / "spec.toml")]
     command += ["-o", str(folder), "--vary", "compaction.inertial_number=0.8,0.4"]
     command += ["--scene", "manufacture", "--scene", "compaction"]
-    _kill_when_checkpointed(command, "points/p00/manufacture.checkpoint.json", folder)
+    _kill_when_checkpointed(command, folder, "points/p00", "manufacture")
     killed_in_own_folder = read_results(folder / "points" / "p00" / "results.h5")
-    _kill_when_checkpointed(command, "points/p01.partial-*/compaction.checkpoint.json", folder)
+    _kill_when_checkpointed(command, folder, "points/p01.partial-*", "compaction")
     partials = sorted(p.name for p in (folder / "points").glob("p01.partial-*"))
     out = subprocess.run(command, capture_output=True, text=True)
     return folder, killed_in_own_folder, partials, out

@@ -18,7 +18,7 @@ from ..model import Model
 from ..numerics import ContactLaw, Prepared, TimeStep, prepare
 from ..scenes import Deck, applicable_scenes, render_deck
 from ..spec import FabricSpec, SpecError
-from .folder import RunFolderError, check_output
+from .folder import RunFolderError, check_output, temporary_folder
 
 __all__ = ["MAX_RANKS", "Build", "OutputExistsError", "build", "check_ranks", "prepare_output"]
 
@@ -64,7 +64,7 @@ def prepare_output(directory: str | os.PathLike, force: bool = False) -> tuple[P
     """(final, partial) paths; refuses an existing non-empty folder unless ``force``, and a
     file or an unwritable place always (:func:`~ncf2lammps.orchestration.folder.check_output`)."""
     final = check_output(directory, force)
-    partial = final.with_name(f"{final.name}.partial-{os.getpid()}")
+    partial = temporary_folder(final)
     shutil.rmtree(partial, ignore_errors=True)
     try:
         partial.mkdir(parents=True)

@@ -23,6 +23,33 @@ __all__ = ["RunFolder", "RunFolderError", "check_output", "check_run_folder"]
 _PARTIAL = re.compile(r"\.partial-\d+$")
 
 
+def temporary_folder(final: Path) -> Path:
+    """``<final>.partial-<pid>`` (this process's pid): where ``final`` is written before it is
+    renamed into place."""
+    return final.with_name(f"{final.name}.partial-{os.getpid()}")
+
+
+def process_alive(pid: int) -> bool:
+    """Whether process ``pid`` exists on this host (one of another user counts)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        pass
+    return True
+
+
+def abandoned_temporary_folders(final: Path) -> list[Path]:
+    """Temporary folders of ``final`` whose process is gone (killed), the newest first."""
+    found = [
+        path
+        for path in final.parent.glob(f"{final.name}.partial-*")
+        if _PARTIAL.search(path.name) and not process_alive(int(path.name.rpartition("-")[2]))
+    ]
+    return sorted(found, key=lambda path: path.stat().st_mtime, reverse=True)
+
+
 class RunFolderError(ValueError):
     """A folder that cannot serve the verb; ``str()`` is one line: path, what is wrong, what
     to do."""

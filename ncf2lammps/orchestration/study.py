@@ -43,6 +43,7 @@ from ..io.spectoml import dumps_spec, write_spec
 from ..io.table import write_csv
 from ..spec import FabricSpec, SpecError
 from .build import OutputExistsError
+from .folder import abandoned_temporary_folders, temporary_folder
 from .report import write_report
 from .run import run, run_scenes, scenes_to_run
 
@@ -278,25 +279,11 @@ def _is_killed_run(directory: Path, spec: FabricSpec) -> bool:
     return stored is not None and not stored[2] and stored[0] == dumps_spec(spec)
 
 
-def _process_alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
-
-
 def _killed_partial(directory: Path, spec: FabricSpec) -> Path | None:
-    """The newest temporary folder of ``directory`` left by a killed study (its process gone)
-    while running ``spec``; the other temporary folders of killed studies are removed."""
+    """The newest temporary folder of ``directory`` left by a killed study while running
+    ``spec``; the other temporary folders of killed studies are removed."""
     found = None
-    siblings = directory.parent.glob(f"{directory.name}.partial-*")
-    for path in sorted(siblings, key=lambda p: p.stat().st_mtime, reverse=True):
-        pid = path.name.rpartition("-")[2]
-        if not pid.isdigit() or _process_alive(int(pid)):
-            continue
+    for path in abandoned_temporary_folders(directory):
         if found is None and _is_killed_run(path, spec):
             found = path
         else:
@@ -319,7 +306,7 @@ def _run_from_manufactured(
     of the copy: each scene to run resumes from its own checkpoint there, if it wrote one (the
     copy drops the source's checkpoints of those scenes). Returns whether it was.
     """
-    partial = directory.with_name(f"{directory.name}.partial-{os.getpid()}")
+    partial = temporary_folder(directory)
     shutil.rmtree(partial, ignore_errors=True)
     killed = _killed_partial(directory, point.spec)
     if killed is not None:

@@ -24,6 +24,7 @@ from ..engine import Checkpoints, Engine, EngineError
 from ..numerics import prepare
 from ..scenes import SCENES, execute
 from ..spec import load_spec
+from .folder import process_alive
 from .progress import Progress
 
 #: Seconds between two looks of a scene's process at the process that started the run.
@@ -43,12 +44,8 @@ def watch_driver(identity: str | None) -> None:
     def watch() -> None:
         while True:
             time.sleep(WATCH_EVERY_S)
-            try:
-                os.kill(int(pid), 0)
-            except ProcessLookupError:
+            if not process_alive(int(pid)):
                 os._exit(137)
-            except PermissionError:
-                continue
 
     threading.Thread(target=watch, name="watch-driver", daemon=True).start()
 
