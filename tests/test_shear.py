@@ -197,8 +197,8 @@ def test_the_locked_coarse_cell_keeps_its_stitch_tensioned(coarse_sheared):
 @pytest.mark.lammps
 @pytest.mark.slow
 def test_halving_the_rate_moves_the_force_less_than_3_percent(coarse_manufactured, tmp_path):
-    """Quasi-static at the case's rate (I = 0.05): F_N(45 deg), the 2-deg trailing line of the
-    records, moves < 3 % at half the rate (measured: 0.06 %)."""
+    """Quasi-static at the case's rate (I = 0.1): F_N(45 deg), the 2-deg trailing line of the
+    records, moves < 3 % at half the rate (measured: 1.3 %)."""
     spec = case_spec("hpt310-coarse")
     default = math.degrees(shear_rate(spec, build_model(spec)))
     forces = []
