@@ -6,6 +6,9 @@ import fcntl
 import functools
 import os
 import shutil
+import signal
+import subprocess
+import time
 from collections.abc import Callable
 from pathlib import Path
 
@@ -258,6 +261,25 @@ def checkpoint_step(folder: Path, deck: str) -> int:
     """Step of the last checkpoint of ``deck`` in ``folder``; -1 before the first."""
     state = Checkpoints(deck).state(folder)
     return -1 if state is None else state["step"]
+
+
+def kill_after_checkpoint(
+    command: list[str], root: Path, pattern: str, deck: str, step: int = 1
+) -> bool:
+    """Start ``command`` and SIGKILL it once ``deck`` has a checkpoint at or past ``step`` in a
+    folder matching ``pattern`` under ``root`` (at most 600 s); returns whether it was still
+    running when killed."""
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 600
+    while process.poll() is None and not any(
+        checkpoint_step(path, deck) >= step for path in root.glob(pattern)
+    ):
+        assert time.monotonic() < deadline
+        time.sleep(0.1)
+    running = process.poll() is None
+    process.send_signal(signal.SIGKILL)
+    process.wait()
+    return running
 
 
 def copy_run(folder: Path, destination: Path) -> Path:

@@ -15,15 +15,13 @@ scatters by ~7 % between manufactured cells that differ only by round-off, the q
 
 from __future__ import annotations
 
-import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import h5py
 import pytest
-from conftest import case_spec, checkpoint_step, copy_run
+from conftest import case_spec, checkpoint_step, copy_run, kill_after_checkpoint
 
 from ncf2lammps import run_scenes
 from ncf2lammps.io.results import read_results
@@ -115,13 +113,7 @@ def killed_and_resumed(tmp_path_factory):
     folder = tmp_path / "run"
     command = [sys.executable, "-m", "ncf2lammps.cli", "run", str(spec_file), "-o", str(folder)]
     command += ["--scene", "compaction"]
-    process = subprocess.Popen(command, stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 600
-    while checkpoint_step(folder, "manufacture") < 100_000 and process.poll() is None:
-        assert time.monotonic() < deadline
-        time.sleep(0.2)
-    process.send_signal(signal.SIGKILL)
-    process.wait()
+    kill_after_checkpoint(command, tmp_path, folder.name, "manufacture", 100_000)
     with h5py.File(folder / "results.h5") as fh:
         killed = {"complete": bool(fh.attrs["complete"]), "manufacture": "manufacture" in fh}
     killed["summary"] = (folder / "summary.md").exists()

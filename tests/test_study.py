@@ -4,14 +4,12 @@ from __future__ import annotations
 
 import csv
 import shutil
-import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
-from conftest import checkpoint_step, tiny_spec
+from conftest import kill_after_checkpoint, tiny_spec
 
 from ncf2lammps.analysis.study import pareto_front, relative_errors
 from ncf2lammps.io.results import read_results
@@ -230,19 +228,7 @@ def test_study_asked_for_more_scenes_runs_them_on_the_kept_manufacture(compactio
     assert float(row["thickness_at_1kPa_mm"]) > 0
 
 
-def _kill_when_checkpointed(command: list[str], root, folders: str, deck: str) -> None:
-    """Start ``command``; SIGKILL it once ``deck`` has a checkpoint past step 0 in a folder
-    matching ``folders`` under ``root``."""
-    process = subprocess.Popen(command, stderr=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
-    deadline = time.monotonic() + 600
-    while process.poll() is None and not any(
-        checkpoint_step(path, deck) > 0 for path in root.glob(folders)
-    ):
-        assert time.monotonic() < deadline
-        time.sleep(0.1)
-    assert process.poll() is None, "the study ended before it could be killed"
-    process.send_signal(signal.SIGKILL)
-    process.wait()
+KILL_TOO_LATE = "the study ended before it could be killed"
 
 
 @pytest.fixture(scope="module")
@@ -261,9 +247,11 @@ def killed_study(tmp_path_factory):
     command = [sys.executable, "-m", "ncf2lammps.cli", "study", str(tmp / "spec.toml")]
     command += ["-o", str(folder), "--vary", "compaction.inertial_number=0.8,0.4"]
     command += ["--scene", "manufacture", "--scene", "compaction"]
-    _kill_when_checkpointed(command, folder, "points/p00", "manufacture")
+    assert kill_after_checkpoint(command, folder, "points/p00", "manufacture"), KILL_TOO_LATE
     killed_in_own_folder = read_results(folder / "points" / "p00" / "results.h5")
-    _kill_when_checkpointed(command, folder, "points/p01.partial-*", "compaction")
+    assert kill_after_checkpoint(command, folder, "points/p01.partial-*", "compaction"), (
+        KILL_TOO_LATE
+    )
     partials = sorted(p.name for p in (folder / "points").glob("p01.partial-*"))
     out = subprocess.run(command, capture_output=True, text=True)
     return folder, killed_in_own_folder, partials, out

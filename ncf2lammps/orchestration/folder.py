@@ -20,7 +20,7 @@ from ..scenes import SCENES
 __all__ = ["RunFolder", "RunFolderError", "check_output", "check_run_folder"]
 
 #: A temporary folder of an interrupted build (:func:`~ncf2lammps.orchestration.build.build`).
-_PARTIAL = re.compile(r"\.partial-\d+$")
+_PARTIAL = re.compile(r"\.partial-(\d+)$")
 
 
 def temporary_folder(final: Path) -> Path:
@@ -45,7 +45,7 @@ def abandoned_temporary_folders(final: Path) -> list[Path]:
     found = [
         path
         for path in final.parent.glob(f"{final.name}.partial-*")
-        if _PARTIAL.search(path.name) and not process_alive(int(path.name.rpartition("-")[2]))
+        if (owner := _PARTIAL.search(path.name)) and not process_alive(int(owner[1]))
     ]
     return sorted(found, key=lambda path: path.stat().st_mtime, reverse=True)
 
