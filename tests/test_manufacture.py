@@ -9,7 +9,9 @@ from conftest import case_spec, tiny_spec
 
 from ncf2lammps.io.datafile import read_data
 from ncf2lammps.io.results import read_results
+from ncf2lammps.numerics import prepare
 from ncf2lammps.scenes.manufacture import deck_values, needle_axes
+from ncf2lammps.scenes.stitch import hole_attrs
 
 
 @pytest.fixture(scope="module")
@@ -45,6 +47,20 @@ def test_stitch_tension_within_5_percent_and_quasi_static(manufactured):
     assert attrs["stitch_tension_N"] == pytest.approx(spec.manufacture.stitch_tension_N, rel=0.05)
     assert attrs["kinetic_ratio"] < spec.manufacture.kinetic_ratio_target
     assert 0.2 < attrs["thickness_mm"] < 1.0
+
+
+@pytest.mark.lammps
+def test_holes_are_measured_against_the_generated_lapping(manufactured):
+    """The holes of the manufactured yarn match the generated ones (the width ratio is a
+    number in (0, 1.2), the slip finite); the generated state itself reads width 1, slip 0."""
+    spec, folder, results = manufactured
+    attrs = results["manufacture"]["attrs"]
+    assert 0.0 < attrs["stitch_shog_width_ratio"] < 1.2
+    assert 0.0 <= attrs["stitch_hole_slip_mm"] < spec.stitch.gauge_mm
+    assert "stitch_shog_width_ratio" in (folder / "summary.md").read_text()
+    generated = hole_attrs(prepare(spec).model, None, folder / "model.data")
+    assert generated["stitch_shog_width_ratio"] == pytest.approx(1.0, rel=1e-9)
+    assert generated["stitch_hole_slip_mm"] < 1e-9
 
 
 @pytest.mark.lammps

@@ -114,6 +114,9 @@ def test_results_follow_the_contract(coarse_sheared):
     group = results["shear"]
     for key in ("force_at_final_N_per_m", "wall_s", "steps", "max_kinetic_ratio"):
         assert np.isfinite(group["attrs"][key])
+    # the holes since manufacture: matched, within one gauge of where they were
+    assert 0.0 <= group["attrs"]["stitch_hole_slip_mm"] < 5.08
+    assert 0.0 < group["attrs"]["stitch_shog_width_ratio"] < 1.2
     names = ("angle_deg", "force_N_per_m", "force_work_N_per_m", "kinetic_ratio", "work_J")
     assert len({len(group[k]) for k in names}) == 1 and len(group["angle_deg"]) > 100
     assert group["angle_deg"][-1] == pytest.approx(COARSE_TEST_ANGLE, abs=0.2)

@@ -1,10 +1,34 @@
-"""The stitch yarn under load: where its bonds broke, and when the first one did."""
+"""The stitch yarn: where its bonds broke and when the first one did; where its holes lie.
+
+Holes (docs/stitch.md): a yarn runs on the loop face (top) and the underlap face (bottom) and
+passes through the mat at its needle holes; a hole is where the yarn's path crosses its
+mid-height. Hole positions are compared in fractional coordinates of the cell (``h^-1 (x -
+lo)``, the cell's edge vectors as the columns of ``h``): an affine deformation of the cell
+(the shear's box) leaves them unchanged, so a change is the yarn moving through the mat.
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-__all__ = ["bond_midpoints", "broken_bonds", "first_break"]
+from ..model import Box
+
+__all__ = [
+    "YarnHoles",
+    "bond_midpoints",
+    "broken_bonds",
+    "cell_matrix",
+    "first_break",
+    "hole_slip",
+    "shog_width_ratio",
+    "yarn_holes",
+]
+
+#: A face is reached where the path lies this fraction of the yarn's height span (5th to 95th
+#: percentile of z) above or below its mid-height; in between the yarn is in a hole's leg.
+FACE_BAND = 0.25
 
 
 def _pair_keys(bonds: np.ndarray, n_atoms: int) -> np.ndarray:
@@ -36,3 +60,139 @@ def first_break(abscissa: np.ndarray, broken: np.ndarray) -> float:
     broke. ``abscissa`` and the cumulative count ``broken`` are (R,) in record order."""
     hit = np.flatnonzero(broken > 0)
     return float(abscissa[hit[0]]) if hit.size else float("nan")
+
+
+def cell_matrix(box: Box) -> np.ndarray:
+    """(3, 3) edge vectors of the periodic cell as columns (um)."""
+    (lx, ly, lz), (xy, xz, yz) = box.lengths, box.tilt
+    return np.array([[lx, xy, xz], [0.0, ly, yz], [0.0, 0.0, lz]])
+
+
+@dataclass(frozen=True)
+class YarnHoles:
+    """The holes of one closed yarn, in path order.
+
+    Attributes:
+        fractional: (H, 3) hole positions, fractional coordinates of the cell, unwrapped along
+            the path (consecutive holes differ by the path between them).
+        face: (H,) +1 where the path leaves the hole on the top face, -1 on the bottom face.
+        path_um: (H,) length of the path from each hole to the next (um).
+        period: (3,) fractional vector from a point of the yarn to its next image along it.
+    """
+
+    fractional: np.ndarray
+    face: np.ndarray
+    path_um: np.ndarray
+    period: np.ndarray
+
+    @property
+    def spans(self) -> np.ndarray:
+        """(H, 3) fractional vector from each hole to the next (the last to the first's image)."""
+        following = np.roll(self.fractional, -1, axis=0)
+        following[-1] += self.period
+        return following - self.fractional
+
+
+def yarn_holes(positions: np.ndarray, box: Box, beads: np.ndarray) -> YarnHoles:
+    """The holes of the closed yarn through ``beads`` ((K,) bead indices in path order, the last
+    bonded to the first) of the (N, 3) ``positions`` (um) in the periodic ``box`` (x, y). A yarn
+    that never reaches both faces has no hole (empty arrays)."""
+    h = cell_matrix(box)
+    path = positions[beads]
+    fractional_steps = np.linalg.solve(h, (np.roll(path, -1, axis=0) - path).T).T
+    fractional_steps[:, :2] -= np.rint(fractional_steps[:, :2])
+    steps = fractional_steps @ h.T
+    walk = path[0] + np.concatenate([np.zeros((1, 3)), np.cumsum(steps, axis=0)])
+    period = fractional_steps.sum(axis=0)
+    z = walk[:-1, 2]
+    low, high = np.percentile(z, [5.0, 95.0])
+    middle, band = 0.5 * (low + high), FACE_BAND * (high - low)
+    state = np.where(z > middle + band, 1, np.where(z < middle - band, -1, 0))
+    empty = YarnHoles(np.zeros((0, 3)), np.zeros(0, int), np.zeros(0), period)
+    if not ((state > 0).any() and (state < 0).any()):
+        return empty
+    # walk the closed path twice from its first bead on a face, carrying the last face reached
+    start = int(np.flatnonzero(state)[0])
+    count = len(beads)
+    order = np.arange(start, start + count + 1)
+    twice = np.concatenate([walk[:-1], walk[:-1] + steps.sum(axis=0)])[order]
+    reached = state[order % count]
+    last_on_face = np.maximum.accumulate(np.where(reached != 0, np.arange(len(order)), 0))
+    held = reached[last_on_face]
+    # a hole: the bond where the path crosses mid-height between the last bead on one face and
+    # the first on the other
+    changes = np.flatnonzero(held[1:] != held[:-1]) + 1
+    above = twice[:, 2] > middle
+    crossings = np.flatnonzero(above[1:] != above[:-1])
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(twice, axis=0), axis=1))])
+    bonds = np.array([crossings[crossings >= last_on_face[c - 1]][0] for c in changes], dtype=int)
+    a, b = twice[bonds], twice[bonds + 1]
+    t = (middle - a[:, 2]) / (b[:, 2] - a[:, 2])
+    points = a + t[:, None] * (b - a)
+    arcs = arc[bonds] + t * (arc[bonds + 1] - arc[bonds])
+    total = arc[-1]
+    return YarnHoles(
+        fractional=np.linalg.solve(h, (points - box.lo).T).T,
+        face=held[changes],
+        path_um=np.diff(np.concatenate([arcs, [arcs[0] + total]])),
+        period=period,
+    )
+
+
+def _alignment(reference: YarnHoles, current: YarnHoles) -> int | None:
+    """The cyclic shift of ``current``'s holes that matches ``reference``'s (the shift with the
+    same faces and the nearest in-plane positions, periodic); None if their counts or faces
+    cannot be matched."""
+    count = len(reference.face)
+    if count == 0 or len(current.face) != count:
+        return None
+    best, best_distance = None, np.inf
+    for shift in range(count):
+        if not np.array_equal(np.roll(current.face, -shift), reference.face):
+            continue
+        delta = np.roll(current.fractional, -shift, axis=0)[:, :2] - reference.fractional[:, :2]
+        distance = np.abs(delta - np.rint(delta)).sum()
+        if distance < best_distance:
+            best, best_distance = shift, distance
+    return best
+
+
+def shog_width_ratio(
+    reference: list[YarnHoles], current: list[YarnHoles], threshold: float = 0.01
+) -> float:
+    """Width across the wales (along the cell's edge b) of the yarns' shogging face runs in
+    ``current``, over their width in ``reference`` (the same yarns' holes, e.g. as generated):
+    1 where the holes keep the lapping's needle positions, 0 where every underlap has pulled
+    straight. A run shogs where its reference span along b exceeds ``threshold`` x the largest
+    one. nan without shogging runs (a chain stitch) or with holes that do not match."""
+    total_reference, total_current = 0.0, 0.0
+    for ref, cur in zip(reference, current, strict=True):
+        shift = _alignment(ref, cur)
+        if shift is None:
+            return float("nan")
+        across_ref = np.abs(ref.spans[:, 1])
+        across_cur = np.abs(np.roll(cur.spans, -shift, axis=0)[:, 1])
+        shogs = across_ref > threshold * max(across_ref.max(), 1e-300)
+        total_reference += across_ref[shogs].sum()
+        total_current += across_cur[shogs].sum()
+    return total_current / total_reference if total_reference > 0 else float("nan")
+
+
+def hole_slip(
+    reference: list[YarnHoles], current: list[YarnHoles], cell: np.ndarray, drift: np.ndarray
+) -> float:
+    """RMS in-plane distance (um) the holes moved through the mat from ``reference`` to
+    ``current``: the change of their fractional positions less the mat's rigid ``drift`` ((3,)
+    fractional, e.g. the fibres' mean displacement), measured in the reference ``cell``
+    ((3, 3), :func:`cell_matrix`). nan with holes that do not match."""
+    moved = []
+    for ref, cur in zip(reference, current, strict=True):
+        shift = _alignment(ref, cur)
+        if shift is None:
+            return float("nan")
+        delta = np.roll(cur.fractional, -shift, axis=0) - ref.fractional - drift
+        delta[:, :2] -= np.rint(delta[:, :2])
+        delta[:, 2] = 0.0
+        moved.append(delta @ cell.T)
+    moved = np.concatenate(moved) if moved else np.zeros((0, 3))
+    return float(np.sqrt((moved[:, :2] ** 2).sum(axis=1).mean())) if len(moved) else float("nan")

@@ -45,7 +45,7 @@ from ..model import Model
 from ..numerics import Prepared
 from ..spec import FabricSpec
 from .base import Scene
-from .stitch import rest_lengths_file
+from .stitch import hole_attrs, rest_lengths_file
 
 __all__ = ["SCENE", "ManufactureError", "needle_axes"]
 
@@ -393,6 +393,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
             else {}
         ),
         **(json.loads(checks.read_text()) if checks.is_file() else {}),
+        **hole_attrs(run.model, None, directory / "manufactured.data"),
     }
     datasets = {
         "time_us": history["v_time"],

@@ -225,16 +225,13 @@ def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
         "final_angle_deg": math.degrees(curve.angle[-1]),
         "fibre_pretension_N_m": spec.shear.fibre_pretension_N_m,
     }
-    segments = _stops(spec, _control(run), run.time_step.dt)
+    final_state = f"{name}_{_stops(spec, _control(run), run.time_step.dt)[-1][0]}deg.data"
     stitch_attrs, stitch_datasets = stitch.collect(
-        run,
-        directory,
-        name,
-        stress["TimeStep"],
-        ("angle_deg", np.degrees),
-        f"{name}_{segments[-1][0]}deg.data",
+        run, directory, name, stress["TimeStep"], ("angle_deg", np.degrees), final_state
     )
     attrs |= stitch_attrs
+    if spec.stitch is not None:
+        attrs |= stitch.hole_attrs(model, directory / "manufactured.data", directory / final_state)
     datasets = {
         **stitch_datasets,
         "angle_deg": np.degrees(curve.mid_angle),

@@ -14,10 +14,19 @@ from pathlib import Path
 import numpy as np
 
 from .. import units
-from ..analysis.stitch import bond_midpoints, broken_bonds, first_break
+from ..analysis.stitch import (
+    YarnHoles,
+    bond_midpoints,
+    broken_bonds,
+    cell_matrix,
+    first_break,
+    hole_slip,
+    shog_width_ratio,
+    yarn_holes,
+)
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time
-from ..model import BondType
+from ..model import BondType, Box, Model
 from ..numerics import Prepared
 from ..spec import FabricSpec, SpecError, StitchSpec
 
@@ -27,6 +36,7 @@ __all__ = [
     "breaking_force",
     "collect",
     "deck_value",
+    "hole_attrs",
     "ruptures",
 ]
 
@@ -133,6 +143,47 @@ def _breaks(directory: Path, final_state: str) -> dict:
         "stitch_broken_bonds": "; ".join(listed) + (" ..." if len(gone) > LISTED_BREAKS else ""),
         "stitch_broken_beads": pairs[:STORED_BREAKS],
         "stitch_broken_midpoints_mm": middle[:STORED_BREAKS],
+    }
+
+
+def _holes(model: Model, positions: np.ndarray, box: Box) -> list[YarnHoles]:
+    """The holes of every stitch yarn of ``model`` in a state (positions (N, 3) um, box); the
+    model lays each closed yarn's beads consecutively, in path order."""
+    beads = np.flatnonzero(model.role_mask("stitch"))
+    yarns = np.split(beads, np.flatnonzero(np.diff(model.mol_id[beads])) + 1)
+    return [yarn_holes(positions, box, yarn) for yarn in yarns]
+
+
+def hole_attrs(model: Model, reference: str | Path | None, state: str | Path) -> dict:
+    """Where the stitch's holes lie in the state file ``state`` (docs/stitch.md):
+    ``stitch_shog_width_ratio``, the width of the underlaps across the wales against the
+    generated lapping, and ``stitch_hole_slip_mm``, the RMS in-plane distance the holes moved
+    through the mat since ``reference`` (a state file; None: the generated model), less the
+    fibres' rigid drift. Empty without a stitch or without the state files."""
+    files = [Path(f) for f in (reference, state) if f is not None]
+    if not model.role_mask("stitch").any() or not all(f.is_file() for f in files):
+        return {}
+    generated = _holes(model, model.positions, model.box)
+    now = read_data(state)
+    current = _holes(model, now.positions, now.box)
+    if reference is None:
+        since, since_positions, since_box = generated, model.positions, model.box
+    else:
+        before = read_data(reference)
+        since, since_positions, since_box = (
+            _holes(model, before.positions, before.box),
+            before.positions,
+            before.box,
+        )
+    fibres = model.role_mask("fibre")
+    move = np.linalg.solve(cell_matrix(now.box), (now.positions[fibres] - now.box.lo).T).T
+    move -= np.linalg.solve(cell_matrix(since_box), (since_positions[fibres] - since_box.lo).T).T
+    move[:, :2] -= np.rint(move[:, :2])
+    drift = np.array([*move[:, :2].mean(axis=0), 0.0])
+    slip = hole_slip(since, current, cell_matrix(since_box), drift)
+    return {
+        "stitch_shog_width_ratio": shog_width_ratio(generated, current),
+        "stitch_hole_slip_mm": units.from_micro(slip, "mm"),
     }
 
 

@@ -1,0 +1,108 @@
+"""Where the stitch passes through the mat: hole positions, the underlaps' width across the
+wales and the holes' slip through the mat (analysis/stitch.py, scenes/stitch.py)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from conftest import tiny_spec
+
+from ncf2lammps.analysis.stitch import cell_matrix, yarn_holes
+from ncf2lammps.io.datafile import write_data
+from ncf2lammps.model import Box
+from ncf2lammps.model.builder import build_model
+from ncf2lammps.scenes.stitch import hole_attrs
+
+
+def _yarns(model):
+    beads = np.flatnonzero(model.role_mask("stitch"))
+    return np.split(beads, np.flatnonzero(np.diff(model.mol_id[beads])) + 1)
+
+
+def _state(model, positions, box, path):
+    """A data file of ``model`` moved to ``positions`` in ``box`` (wrapped in x and y)."""
+    h = cell_matrix(box)
+    fractional = np.linalg.solve(h, (positions - box.lo).T).T
+    fractional[:, :2] -= np.floor(fractional[:, :2])
+    moved = dataclasses.replace(model, positions=box.lo + fractional @ h.T, box=box)
+    write_data(path, moved)
+    return path
+
+
+@pytest.fixture(scope="module", params=[1, 2], ids=["one wale", "two wales"])
+def model(request):
+    """The tiny tricot-chain cell, one or two wales wide (one yarn per wale)."""
+    return build_model(tiny_spec(cell={"width_mm": 5.08 * request.param}))
+
+
+def test_generated_holes_lie_on_the_needle_points(model):
+    # tricot-chain 1-0/0-1/1-2/2-1: four holes per yarn and repeat, alternately leaving on the
+    # top (loop) and the bottom (underlap) face; every hole at a needle point (to 1e-6 um)
+    lengths = model.box.lengths
+    needles = model.needle_points
+    for yarn in _yarns(model):
+        holes = yarn_holes(model.positions, model.box, yarn)
+        assert len(holes.face) == 4 and set(np.abs(np.diff(holes.face))) == {2}
+        xy = np.mod(holes.fractional[:, :2], 1.0) * lengths[:2]
+        delta = xy[:, None, :] - needles[None, :, :]
+        delta -= np.rint(delta / lengths[:2]) * lengths[:2]
+        assert np.sqrt((delta**2).sum(axis=-1)).min(axis=1).max() < 1e-6
+        # the path between holes adds up to the yarn's length, and the spans to its period
+        steps = np.diff(model.positions[np.append(yarn, yarn[0])], axis=0)
+        steps[:, :2] -= np.rint(steps[:, :2] / lengths[:2]) * lengths[:2]
+        assert holes.path_um.sum() == pytest.approx(np.linalg.norm(steps, axis=1).sum(), 1e-12)
+        np.testing.assert_allclose(holes.spans.sum(axis=0), holes.period, atol=1e-12)
+
+
+def test_an_affine_shear_and_a_rigid_drift_move_no_hole(model, tmp_path):
+    # fractional coordinates are the cell's material coordinates: the shear's box (tilt xy =
+    # ly tan 40 deg) carrying every bead, plus a common translation, leaves the width 1 and the
+    # slip 0 (1e-9 relative, 1e-6 um)
+    lo, (lx, ly, lz) = model.box.lo, model.box.lengths
+    tilt = ly * np.tan(np.radians(40.0))
+    sheared = Box(lo, lo + np.array([lx, ly, lz]), np.array([tilt, 0.0, 0.0]))
+    moved = (model.positions - lo) / np.array([lx, ly, lz]) @ cell_matrix(sheared).T + lo
+    state = _state(model, moved + np.array([123.0, -321.0, 7.0]), sheared, tmp_path / "s.data")
+    attrs = hole_attrs(model, None, state)
+    assert attrs["stitch_shog_width_ratio"] == pytest.approx(1.0, rel=1e-9)
+    assert attrs["stitch_hole_slip_mm"] < 1e-9
+
+
+def test_underlaps_pulled_straight_narrow_by_the_pull(model, tmp_path):
+    # every yarn's beads drawn towards its own mean y by a factor lam (fibres in place): each
+    # hole moves across the wales by (1 - lam) (y - mean), so the width ratio is lam and the
+    # slip the RMS of those moves (1e-9 relative)
+    lam = 0.4
+    positions = np.array(model.positions)
+    ly = model.box.lengths[1]
+    expected = []
+    for yarn in _yarns(model):
+        y = positions[yarn, 1]
+        steps = np.diff(np.append(y, y[0]))
+        y_unwrapped = y[0] + np.concatenate([[0.0], np.cumsum(steps - np.rint(steps / ly) * ly)])
+        mean = y_unwrapped[:-1].mean()
+        positions[yarn, 1] = mean + lam * (y_unwrapped[:-1] - mean)
+        holes = yarn_holes(model.positions, model.box, yarn)
+        hole_y = holes.fractional[:, 1] * ly + model.box.lo[1]
+        hole_y -= np.rint((hole_y - mean) / ly) * ly
+        expected.append((1.0 - lam) * (hole_y - mean))
+    state = _state(model, positions, model.box, tmp_path / "narrow.data")
+    attrs = hole_attrs(model, None, state)
+    assert attrs["stitch_shog_width_ratio"] == pytest.approx(lam, rel=1e-9)
+    rms = np.sqrt(np.mean(np.concatenate(expected) ** 2))
+    assert attrs["stitch_hole_slip_mm"] * 1e3 == pytest.approx(rms, rel=1e-9)
+    assert rms > 100.0  # the zigzag of a 5.08 mm gauge: holes moved by ~1 mm
+
+
+def test_a_chain_stitch_has_no_width_and_a_flattened_yarn_no_matching_holes(tmp_path):
+    chain = build_model(tiny_spec(stitch={"pattern": "chain"}))
+    attrs = hole_attrs(chain, None, _state(chain, chain.positions, chain.box, tmp_path / "c.data"))
+    assert np.isnan(attrs["stitch_shog_width_ratio"]) and attrs["stitch_hole_slip_mm"] == 0.0
+    model = build_model(tiny_spec())
+    flat = np.array(model.positions)
+    flat[model.role_mask("stitch"), 2] = flat[model.role_mask("stitch"), 2].mean()
+    attrs = hole_attrs(model, None, _state(model, flat, model.box, tmp_path / "flat.data"))
+    assert np.isnan(attrs["stitch_shog_width_ratio"]) and np.isnan(attrs["stitch_hole_slip_mm"])
+    assert hole_attrs(model, None, tmp_path / "missing.data") == {}
