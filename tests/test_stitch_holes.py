@@ -106,3 +106,17 @@ def test_a_chain_stitch_has_no_width_and_a_flattened_yarn_no_matching_holes(tmp_
     attrs = hole_attrs(model, None, _state(model, flat, model.box, tmp_path / "flat.data"))
     assert np.isnan(attrs["stitch_shog_width_ratio"]) and np.isnan(attrs["stitch_hole_slip_mm"])
     assert hole_attrs(model, None, tmp_path / "missing.data") == {}
+    # a state of another model (fewer beads) is not read; beads a deck adds after the model's
+    # (a hand-edited experiment) are left out
+    assert hole_attrs(model, tmp_path / "c.data", tmp_path / "flat.data") == {}
+    more = dataclasses.replace(
+        model,
+        positions=np.vstack([model.positions, model.positions[:3]]),
+        diameter=np.concatenate([model.diameter, model.diameter[:3]]),
+        density=np.concatenate([model.density, model.density[:3]]),
+        type_id=np.concatenate([model.type_id, model.type_id[:3]]),
+        mol_id=np.concatenate([model.mol_id, model.mol_id[:3]]),
+    )
+    write_data(tmp_path / "more.data", more)
+    attrs = hole_attrs(model, None, tmp_path / "more.data")
+    assert attrs["stitch_shog_width_ratio"] == pytest.approx(1.0, rel=1e-12)

@@ -28,7 +28,7 @@ __all__ = [
 
 #: A face is reached where the path lies this fraction of the yarn's height span (5th to 95th
 #: percentile of z) above or below its mid-height; in between the yarn is in a hole's leg.
-FACE_BAND = 0.25
+FACE_BAND = 0.1
 
 
 def _pair_keys(bonds: np.ndarray, n_atoms: int) -> np.ndarray:

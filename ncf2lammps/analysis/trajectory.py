@@ -77,14 +77,20 @@ def unique_frames(universe) -> list[int]:
 
 
 def local_thickness(dump: str | os.PathLike, model: Model, bins=(8, 4)) -> LocalThickness:
-    """:class:`LocalThickness` run over the unique frames of a dump of ``model``."""
+    """:class:`LocalThickness` run over the unique frames of a dump of ``model``: its first
+    ``model.n_atoms`` beads (a hand-edited deck's added atoms come after them). ValueError for
+    a dump with fewer beads than the model."""
     with warnings.catch_warnings():  # the dump has no masses and no time unit: not needed
         warnings.simplefilter("ignore", UserWarning)
         universe = mda.Universe(str(dump), format="LAMMPSDUMP")
+    if len(universe.atoms) < model.n_atoms:
+        raise ValueError(
+            f"{dump}: {len(universe.atoms)} beads, fewer than the model's {model.n_atoms}"
+        )
     fibre = model.role_mask("fibre")
     density = np.array([t.density for t in model.atom_types])[model.type_id]
     volume = np.where(fibre, model.mass / density, 0.0)
-    analysis = LocalThickness(universe.atoms, model.diameter / 2, volume, bins)
+    analysis = LocalThickness(universe.atoms[: model.n_atoms], model.diameter / 2, volume, bins)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         return analysis.run(frames=unique_frames(universe))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import os
 import re
 import tomllib
@@ -24,6 +25,7 @@ from .folder import check_run_folder
 
 __all__ = ["collect_outputs", "write_report"]
 
+_log = logging.getLogger(__name__)
 _LAMMPS_VERSION = re.compile(r"^LAMMPS \((\d+) (\w{3})\w* (\d{4})")
 _MONTHS = "Jan Feb Mar Apr May Jun Jul Aug Sep Oct Nov Dec".split()
 
@@ -98,7 +100,11 @@ def _trajectories(directory: Path, scenes) -> list[Path]:
     model = prepare(load_spec(directory / "spec.resolved.toml")).model
     written = []
     for scene, dump in dumps:
-        local = local_thickness(dump, model).results
+        try:
+            local = local_thickness(dump, model).results
+        except ValueError as err:  # not a dump of this model: the rest of the report stands
+            _log.warning("no local thickness: %s", err)
+            continue
         thickness = units.from_micro(local.thickness, "mm")
         frames = len(local.step)
         datasets = {"step": local.step}

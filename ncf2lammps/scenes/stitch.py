@@ -159,24 +159,24 @@ def hole_attrs(model: Model, reference: str | Path | None, state: str | Path) ->
     ``stitch_shog_width_ratio``, the width of the underlaps across the wales against the
     generated lapping, and ``stitch_hole_slip_mm``, the RMS in-plane distance the holes moved
     through the mat since ``reference`` (a state file; None: the generated model), less the
-    fibres' rigid drift. Empty without a stitch or without the state files."""
+    fibres' rigid drift. The model's beads are the first ``model.n_atoms`` of a state (atoms a
+    hand-edited deck adds come after them). Empty without a stitch, without the state files or
+    with a state of fewer beads than the model."""
     files = [Path(f) for f in (reference, state) if f is not None]
     if not model.role_mask("stitch").any() or not all(f.is_file() for f in files):
         return {}
-    generated = _holes(model, model.positions, model.box)
-    now = read_data(state)
-    current = _holes(model, now.positions, now.box)
+    states = [read_data(f) for f in files]
+    if min(len(s.positions) for s in states) < model.n_atoms:
+        return {}
+    pairs = [(s.positions[: model.n_atoms], s.box) for s in states]
     if reference is None:
-        since, since_positions, since_box = generated, model.positions, model.box
-    else:
-        before = read_data(reference)
-        since, since_positions, since_box = (
-            _holes(model, before.positions, before.box),
-            before.positions,
-            before.box,
-        )
+        pairs.insert(0, (model.positions, model.box))
+    (since_positions, since_box), (positions, box) = pairs
+    generated = _holes(model, model.positions, model.box)
+    since = _holes(model, since_positions, since_box)
+    current = _holes(model, positions, box)
     fibres = model.role_mask("fibre")
-    move = np.linalg.solve(cell_matrix(now.box), (now.positions[fibres] - now.box.lo).T).T
+    move = np.linalg.solve(cell_matrix(box), (positions[fibres] - box.lo).T).T
     move -= np.linalg.solve(cell_matrix(since_box), (since_positions[fibres] - since_box.lo).T).T
     move[:, :2] -= np.rint(move[:, :2])
     drift = np.array([*move[:, :2].mean(axis=0), 0.0])
