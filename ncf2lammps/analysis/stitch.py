@@ -21,6 +21,7 @@ __all__ = [
     "broken_bonds",
     "cell_matrix",
     "first_break",
+    "hole_alignment",
     "hole_slip",
     "shog_width_ratio",
     "yarn_holes",
@@ -139,7 +140,7 @@ def yarn_holes(positions: np.ndarray, box: Box, beads: np.ndarray) -> YarnHoles:
     )
 
 
-def _alignment(reference: YarnHoles, current: YarnHoles) -> int | None:
+def hole_alignment(reference: YarnHoles, current: YarnHoles) -> int | None:
     """The cyclic shift of ``current``'s holes that matches ``reference``'s (the shift with the
     same faces and the nearest in-plane positions, periodic); None if their counts or faces
     cannot be matched."""
@@ -167,7 +168,7 @@ def shog_width_ratio(
     one. nan without shogging runs (a chain stitch) or with holes that do not match."""
     total_reference, total_current = 0.0, 0.0
     for ref, cur in zip(reference, current, strict=True):
-        shift = _alignment(ref, cur)
+        shift = hole_alignment(ref, cur)
         if shift is None:
             return float("nan")
         across_ref = np.abs(ref.spans[:, 1])
@@ -187,7 +188,7 @@ def hole_slip(
     ((3, 3), :func:`cell_matrix`). nan with holes that do not match."""
     moved = []
     for ref, cur in zip(reference, current, strict=True):
-        shift = _alignment(ref, cur)
+        shift = hole_alignment(ref, cur)
         if shift is None:
             return float("nan")
         delta = np.roll(cur.fractional, -shift, axis=0) - ref.fractional - drift

@@ -38,6 +38,7 @@ __all__ = [
     "deck_value",
     "hole_attrs",
     "ruptures",
+    "stitch_holes",
 ]
 
 #: Steps between the checks of fix bond/break: a quasi-static bond stretches by far less than
@@ -146,7 +147,7 @@ def _breaks(directory: Path, final_state: str) -> dict:
     }
 
 
-def _holes(model: Model, positions: np.ndarray, box: Box) -> list[YarnHoles]:
+def stitch_holes(model: Model, positions: np.ndarray, box: Box) -> list[YarnHoles]:
     """The holes of every stitch yarn of ``model`` in a state (positions (N, 3) um, box); the
     model lays each closed yarn's beads consecutively, in path order."""
     beads = np.flatnonzero(model.role_mask("stitch"))
@@ -172,9 +173,9 @@ def hole_attrs(model: Model, reference: str | Path | None, state: str | Path) ->
     if reference is None:
         pairs.insert(0, (model.positions, model.box))
     (since_positions, since_box), (positions, box) = pairs
-    generated = _holes(model, model.positions, model.box)
-    since = _holes(model, since_positions, since_box)
-    current = _holes(model, positions, box)
+    generated = stitch_holes(model, model.positions, model.box)
+    since = stitch_holes(model, since_positions, since_box)
+    current = stitch_holes(model, positions, box)
     fibres = model.role_mask("fibre")
     move = np.linalg.solve(cell_matrix(box), (positions[fibres] - box.lo).T).T
     move -= np.linalg.solve(cell_matrix(since_box), (since_positions[fibres] - since_box.lo).T).T
