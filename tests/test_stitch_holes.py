@@ -9,24 +9,18 @@ import numpy as np
 import pytest
 from conftest import tiny_spec
 
-from ncf2lammps.analysis.stitch import cell_matrix, yarn_holes
+from ncf2lammps.analysis.stitch import yarn_holes
 from ncf2lammps.io.datafile import write_data
 from ncf2lammps.model import Box
 from ncf2lammps.model.builder import build_model
-from ncf2lammps.scenes.stitch import hole_attrs
-
-
-def _yarns(model):
-    beads = np.flatnonzero(model.role_mask("stitch"))
-    return np.split(beads, np.flatnonzero(np.diff(model.mol_id[beads])) + 1)
+from ncf2lammps.scenes.stitch import hole_attrs, stitch_yarns
 
 
 def _state(model, positions, box, path):
     """A data file of ``model`` moved to ``positions`` in ``box`` (wrapped in x and y)."""
-    h = cell_matrix(box)
-    fractional = np.linalg.solve(h, (positions - box.lo).T).T
+    fractional = box.fractional(positions)
     fractional[:, :2] -= np.floor(fractional[:, :2])
-    moved = dataclasses.replace(model, positions=box.lo + fractional @ h.T, box=box)
+    moved = dataclasses.replace(model, positions=box.lo + fractional @ box.matrix.T, box=box)
     write_data(path, moved)
     return path
 
@@ -42,7 +36,7 @@ def test_generated_holes_lie_on_the_needle_points(model):
     # top (loop) and the bottom (underlap) face; every hole at a needle point (to 1e-6 um)
     lengths = model.box.lengths
     needles = model.needle_points
-    for yarn in _yarns(model):
+    for yarn in stitch_yarns(model):
         holes = yarn_holes(model.positions, model.box, yarn)
         assert len(holes.face) == 4 and set(np.abs(np.diff(holes.face))) == {2}
         xy = np.mod(holes.fractional[:, :2], 1.0) * lengths[:2]
@@ -63,7 +57,7 @@ def test_an_affine_shear_and_a_rigid_drift_move_no_hole(model, tmp_path):
     lo, (lx, ly, lz) = model.box.lo, model.box.lengths
     tilt = ly * np.tan(np.radians(40.0))
     sheared = Box(lo, lo + np.array([lx, ly, lz]), np.array([tilt, 0.0, 0.0]))
-    moved = (model.positions - lo) / np.array([lx, ly, lz]) @ cell_matrix(sheared).T + lo
+    moved = (model.positions - lo) / np.array([lx, ly, lz]) @ sheared.matrix.T + lo
     state = _state(model, moved + np.array([123.0, -321.0, 7.0]), sheared, tmp_path / "s.data")
     attrs = hole_attrs(model, None, state)
     assert attrs["stitch_shog_width_ratio"] == pytest.approx(1.0, rel=1e-9)
@@ -78,7 +72,7 @@ def test_underlaps_pulled_straight_narrow_by_the_pull(model, tmp_path):
     positions = np.array(model.positions)
     ly = model.box.lengths[1]
     expected = []
-    for yarn in _yarns(model):
+    for yarn in stitch_yarns(model):
         y = positions[yarn, 1]
         steps = np.diff(np.append(y, y[0]))
         y_unwrapped = y[0] + np.concatenate([[0.0], np.cumsum(steps - np.rint(steps / ly) * ly)])

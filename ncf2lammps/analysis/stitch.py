@@ -2,8 +2,8 @@
 
 Holes (docs/stitch.md): a yarn runs on the loop face (top) and the underlap face (bottom) and
 passes through the mat at its needle holes; a hole is where the yarn's path crosses its
-mid-height. Hole positions are compared in fractional coordinates of the cell (``h^-1 (x -
-lo)``, the cell's edge vectors as the columns of ``h``): an affine deformation of the cell
+mid-height. Hole positions are compared in fractional coordinates of the cell (:meth:`Box.fractional
+<ncf2lammps.model.Box.fractional>`): an affine deformation of the cell
 (the shear's box) leaves them unchanged, so a change is the yarn moving through the mat.
 """
 
@@ -19,7 +19,6 @@ __all__ = [
     "YarnHoles",
     "bond_midpoints",
     "broken_bonds",
-    "cell_matrix",
     "first_break",
     "hole_alignment",
     "hole_slip",
@@ -63,12 +62,6 @@ def first_break(abscissa: np.ndarray, broken: np.ndarray) -> float:
     return float(abscissa[hit[0]]) if hit.size else float("nan")
 
 
-def cell_matrix(box: Box) -> np.ndarray:
-    """(3, 3) edge vectors of the periodic cell as columns (um)."""
-    (lx, ly, lz), (xy, xz, yz) = box.lengths, box.tilt
-    return np.array([[lx, xy, xz], [0.0, ly, yz], [0.0, 0.0, lz]])
-
-
 @dataclass(frozen=True)
 class YarnHoles:
     """The holes of one closed yarn, in path order.
@@ -98,44 +91,41 @@ def yarn_holes(positions: np.ndarray, box: Box, beads: np.ndarray) -> YarnHoles:
     """The holes of the closed yarn through ``beads`` ((K,) bead indices in path order, the last
     bonded to the first) of the (N, 3) ``positions`` (um) in the periodic ``box`` (x, y). A yarn
     that never reaches both faces has no hole (empty arrays)."""
-    h = cell_matrix(box)
+    h = box.matrix
     path = positions[beads]
     fractional_steps = np.linalg.solve(h, (np.roll(path, -1, axis=0) - path).T).T
     fractional_steps[:, :2] -= np.rint(fractional_steps[:, :2])
     steps = fractional_steps @ h.T
-    walk = path[0] + np.concatenate([np.zeros((1, 3)), np.cumsum(steps, axis=0)])
     period = fractional_steps.sum(axis=0)
-    z = walk[:-1, 2]
+    z = path[:, 2]  # z is not periodic
     low, high = np.percentile(z, [5.0, 95.0])
     middle, band = 0.5 * (low + high), FACE_BAND * (high - low)
     state = np.where(z > middle + band, 1, np.where(z < middle - band, -1, 0))
-    empty = YarnHoles(np.zeros((0, 3)), np.zeros(0, int), np.zeros(0), period)
     if not ((state > 0).any() and (state < 0).any()):
-        return empty
-    # walk the closed path twice from its first bead on a face, carrying the last face reached
+        return YarnHoles(np.zeros((0, 3)), np.zeros(0, int), np.zeros(0), period)
+    # walk the closed path once round from its first bead on a face (K + 1 points), carrying
+    # the last face reached
     start = int(np.flatnonzero(state)[0])
-    count = len(beads)
-    order = np.arange(start, start + count + 1)
-    twice = np.concatenate([walk[:-1], walk[:-1] + steps.sum(axis=0)])[order]
-    reached = state[order % count]
+    order = np.arange(start, start + len(beads) + 1)
+    walk = path[start] + np.concatenate(
+        [[np.zeros(3)], np.cumsum(steps[order[:-1] % len(beads)], axis=0)]
+    )
+    reached = state[order % len(beads)]
     last_on_face = np.maximum.accumulate(np.where(reached != 0, np.arange(len(order)), 0))
     held = reached[last_on_face]
-    # a hole: the bond where the path crosses mid-height between the last bead on one face and
-    # the first on the other
+    # a hole: the first bond where the path crosses mid-height after the last bead on one face
     changes = np.flatnonzero(held[1:] != held[:-1]) + 1
-    above = twice[:, 2] > middle
+    above = walk[:, 2] > middle
     crossings = np.flatnonzero(above[1:] != above[:-1])
-    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(twice, axis=0), axis=1))])
-    bonds = np.array([crossings[crossings >= last_on_face[c - 1]][0] for c in changes], dtype=int)
-    a, b = twice[bonds], twice[bonds + 1]
+    bonds = crossings[np.searchsorted(crossings, last_on_face[changes - 1])]
+    a, b = walk[bonds], walk[bonds + 1]
     t = (middle - a[:, 2]) / (b[:, 2] - a[:, 2])
-    points = a + t[:, None] * (b - a)
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(walk, axis=0), axis=1))])
     arcs = arc[bonds] + t * (arc[bonds + 1] - arc[bonds])
-    total = arc[-1]
     return YarnHoles(
-        fractional=np.linalg.solve(h, (points - box.lo).T).T,
+        fractional=box.fractional(a + t[:, None] * (b - a)),
         face=held[changes],
-        path_um=np.diff(np.concatenate([arcs, [arcs[0] + total]])),
+        path_um=np.diff(np.append(arcs, arcs[0] + arc[-1])),
         period=period,
     )
 
@@ -185,7 +175,8 @@ def hole_slip(
     """RMS in-plane distance (um) the holes moved through the mat from ``reference`` to
     ``current``: the change of their fractional positions less the mat's rigid ``drift`` ((3,)
     fractional, e.g. the fibres' mean displacement), measured in the reference ``cell``
-    ((3, 3), :func:`cell_matrix`). nan with holes that do not match."""
+    ((3, 3), :attr:`Box.matrix <ncf2lammps.model.Box.matrix>`). nan with holes that do not
+    match."""
     moved = []
     for ref, cur in zip(reference, current, strict=True):
         shift = hole_alignment(ref, cur)
@@ -195,5 +186,6 @@ def hole_slip(
         delta[:, :2] -= np.rint(delta[:, :2])
         delta[:, 2] = 0.0
         moved.append(delta @ cell.T)
-    moved = np.concatenate(moved) if moved else np.zeros((0, 3))
-    return float(np.sqrt((moved[:, :2] ** 2).sum(axis=1).mean())) if len(moved) else float("nan")
+    if not moved:
+        return float("nan")
+    return float(np.sqrt((np.concatenate(moved)[:, :2] ** 2).sum(axis=1).mean()))

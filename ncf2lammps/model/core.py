@@ -76,6 +76,16 @@ class Box:
         """(3,) edge lengths ``hi - lo``, um."""
         return self.hi - self.lo
 
+    @property
+    def matrix(self) -> np.ndarray:
+        """(3, 3) edge vectors of the cell as columns, ``h`` (um)."""
+        (lx, ly, lz), (xy, xz, yz) = self.lengths, self.tilt
+        return np.array([[lx, xy, xz], [0.0, ly, yz], [0.0, 0.0, lz]])
+
+    def fractional(self, points: np.ndarray) -> np.ndarray:
+        """(N, 3) fractional coordinates ``h^-1 (x - lo)`` of the (N, 3) ``points`` (um)."""
+        return np.linalg.solve(self.matrix, (np.asarray(points) - self.lo).T).T
+
 
 def _frozen(array, dtype) -> np.ndarray:
     out = np.ascontiguousarray(array, dtype=dtype)

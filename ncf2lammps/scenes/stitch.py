@@ -18,7 +18,6 @@ from ..analysis.stitch import (
     YarnHoles,
     bond_midpoints,
     broken_bonds,
-    cell_matrix,
     first_break,
     hole_slip,
     shog_width_ratio,
@@ -39,6 +38,7 @@ __all__ = [
     "hole_attrs",
     "ruptures",
     "stitch_holes",
+    "stitch_yarns",
 ]
 
 #: Steps between the checks of fix bond/break: a quasi-static bond stretches by far less than
@@ -147,12 +147,16 @@ def _breaks(directory: Path, final_state: str) -> dict:
     }
 
 
-def stitch_holes(model: Model, positions: np.ndarray, box: Box) -> list[YarnHoles]:
-    """The holes of every stitch yarn of ``model`` in a state (positions (N, 3) um, box); the
-    model lays each closed yarn's beads consecutively, in path order."""
+def stitch_yarns(model: Model) -> list[np.ndarray]:
+    """(K,) bead indices of each stitch yarn of ``model`` in path order: the model lays each
+    closed yarn's beads consecutively."""
     beads = np.flatnonzero(model.role_mask("stitch"))
-    yarns = np.split(beads, np.flatnonzero(np.diff(model.mol_id[beads])) + 1)
-    return [yarn_holes(positions, box, yarn) for yarn in yarns]
+    return np.split(beads, np.flatnonzero(np.diff(model.mol_id[beads])) + 1)
+
+
+def stitch_holes(model: Model, positions: np.ndarray, box: Box) -> list[YarnHoles]:
+    """The holes of every stitch yarn of ``model`` in a state (positions (N, 3) um, box)."""
+    return [yarn_holes(positions, box, yarn) for yarn in stitch_yarns(model)]
 
 
 def hole_attrs(model: Model, reference: str | Path | None, state: str | Path) -> dict:
@@ -174,14 +178,13 @@ def hole_attrs(model: Model, reference: str | Path | None, state: str | Path) ->
         pairs.insert(0, (model.positions, model.box))
     (since_positions, since_box), (positions, box) = pairs
     generated = stitch_holes(model, model.positions, model.box)
-    since = stitch_holes(model, since_positions, since_box)
+    since = generated if reference is None else stitch_holes(model, since_positions, since_box)
     current = stitch_holes(model, positions, box)
     fibres = model.role_mask("fibre")
-    move = np.linalg.solve(cell_matrix(box), (positions[fibres] - box.lo).T).T
-    move -= np.linalg.solve(cell_matrix(since_box), (since_positions[fibres] - since_box.lo).T).T
+    move = box.fractional(positions[fibres]) - since_box.fractional(since_positions[fibres])
     move[:, :2] -= np.rint(move[:, :2])
     drift = np.array([*move[:, :2].mean(axis=0), 0.0])
-    slip = hole_slip(since, current, cell_matrix(since_box), drift)
+    slip = hole_slip(since, current, since_box.matrix, drift)
     return {
         "stitch_shog_width_ratio": shog_width_ratio(generated, current),
         "stitch_hole_slip_mm": units.from_micro(slip, "mm"),
