@@ -288,16 +288,18 @@ def time_step(spec: FabricSpec, model: Model) -> TimeStep:
     limits["contact"] = float(np.sqrt(float(mass.min()) / stiffest.stiffness))
     contacts = COORDINATION * (stiffest.stiffness + stiffest.tangential)
     bond_k = np.array([2.0 * t.k for t in simulated.bond_types])
+    degree = np.bincount(simulated.bonds.ravel(), minlength=len(mass))
     for index, atom_type in enumerate(simulated.atom_types):
         beads = simulated.type_id == index
         if not np.any(beads):
             continue
         ends = beads[simulated.bonds].any(axis=1)
         k_bond = float(bond_k[np.unique(simulated.bond_type[ends])].max()) if ends.any() else 0.0
+        n_bonds = max(2, int(degree[beads].max()))  # a chain bead's two, a junction's more
         m_min = float(mass[beads].min())
         bend = " + bending" if bending[index] else ""
-        key = f"bead {atom_type.name} (2 bonds + {COORDINATION} contacts{bend})"
-        limits[key] = float(np.sqrt(2.0 * m_min / (2.0 * k_bond + contacts + bending[index])))
+        key = f"bead {atom_type.name} ({n_bonds} bonds + {COORDINATION} contacts{bend})"
+        limits[key] = float(np.sqrt(2.0 * m_min / (n_bonds * k_bond + contacts + bending[index])))
         roles[key] = atom_type.role
     governing = min(limits, key=limits.get)
     critical = limits[governing]

@@ -236,6 +236,14 @@ class StitchSpec:
     needle_diameter_mm: float = _f(
         1.0, 0.01, 10.0, unit="mm", source="E5 stitch-bonding compound needle, estimate"
     )
+    interlock: str = _f(
+        "none",
+        choices=("none", "held"),
+        source="none: the paper's free idealised yarn; held: each needle's loops joined along"
+        " the wale on the loop face, as a knitted loop is drawn through the loop of the course"
+        " before (D. J. Spencer, Knitting Technology, 3rd ed., 2001: warp-knitted loops), and"
+        " the pretension shortens only legs and underlaps (docs/stitch.md)",
+    )
     rupture: bool = _f(False, source="false: the paper's unbreakable stitch (docs/stitch.md)")
     rupture_criterion: str = _f(
         "force",

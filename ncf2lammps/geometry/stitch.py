@@ -12,6 +12,13 @@ underlap face the diagonal zigzag between wales. A cell holds an even number of 
 path closes on itself; after them it continues shifted by the cell length along x. Every corner
 is a right angle, so with ``special_bonds lj 0 0 1`` no bead near a corner overlaps a third
 neighbour.
+
+Interlooping (:attr:`StitchPath.link_corners`): in the knitted fabric each new loop is drawn
+through the loop of the course before on the same needle, so the loops of a wale hold one
+another. The links stand for that: on the loop face, straight along x, from the top corner
+where a yarn sinks (odd course ``k``) to the top corner where the course ``k + 1`` rises on the
+same needle (the same yarn in a chain stitch, the neighbouring wale's yarn in a tricot). With
+full threading every needle has a hole at every course, so every sinking hole has its link.
 """
 
 from __future__ import annotations
@@ -22,8 +29,9 @@ import numpy as np
 
 __all__ = ["SEGMENT_KINDS", "StitchPath", "stitch_path"]
 
-#: Names of the segment kinds, indexed by :attr:`StitchPath.kind`.
-SEGMENT_KINDS = ("leg", "loop", "underlap")
+#: Names of the segment kinds, indexed by :attr:`StitchPath.kind`; ``link`` names the
+#: interlooping links (not a segment of a yarn's path).
+SEGMENT_KINDS = ("leg", "loop", "underlap", "link")
 
 
 @dataclass(frozen=True)
@@ -36,12 +44,19 @@ class StitchPath:
         kind: (V,) int, kind of the segment starting at each vertex (see :data:`SEGMENT_KINDS`).
         needle_points: (P, 2) float, hole centres (x, y) wrapped into the cell, one per
             course and wale.
+        link_corners: (L, 2, 2) int, per interlooping link the (yarn, vertex) of its start (the
+            top corner where a yarn sinks) and of its end (the top corner where the next course
+            rises on the same needle); one link per sinking hole.
+        link_vector: (3,) float, every link runs from its start vertex by this vector (one stitch
+            length along x on the loop face); the end vertex is its image in the periodic cell.
     """
 
     yarn_vertices: np.ndarray
     closing_shift: np.ndarray
     kind: np.ndarray
     needle_points: np.ndarray
+    link_corners: np.ndarray
+    link_vector: np.ndarray
 
 
 def stitch_path(
@@ -79,9 +94,22 @@ def stitch_path(
     wale_shift[:, 0, 1] = np.arange(n_wales) * gauge
     holes_x = np.repeat(x, n_wales)
     holes_y = (np.add.outer(y, np.arange(n_wales) * gauge) % cell[1]).ravel()
+    # Links: the yarn w sinking at odd course k stands on needle needle[k] + w; at course k + 1
+    # that needle holds the yarn w' = w + needle[k] - needle[k + 1] (mod wales), rising.
+    sinking = np.arange(1, n_courses, 2)
+    following = (sinking + 1) % n_courses
+    wale = np.arange(n_wales)
+    start_yarn = np.repeat(wale[None, :], len(sinking), axis=0)
+    end_yarn = (start_yarn + (needle[sinking] - needle[following])[:, None]) % n_wales
+    start_vertex = np.repeat(2 * sinking[:, None], n_wales, axis=1)
+    end_vertex = np.repeat(2 * following[:, None] + 1, n_wales, axis=1)
+    starts = np.stack([start_yarn, start_vertex], axis=-1).reshape(-1, 2)
+    ends = np.stack([end_yarn, end_vertex], axis=-1).reshape(-1, 2)
     return StitchPath(
         yarn_vertices=one_yarn[None, :, :] + wale_shift,
         closing_shift=np.array([cell[0], 0.0, 0.0]),
         kind=kind,
         needle_points=np.column_stack([holes_x, holes_y]),
+        link_corners=np.stack([starts, ends], axis=1),
+        link_vector=np.array([stitch_length, 0.0, 0.0]),
     )

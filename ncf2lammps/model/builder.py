@@ -14,6 +14,7 @@ from .. import units
 from ..geometry import (
     SEGMENT_KINDS,
     BeadChain,
+    StitchPath,
     ply_chains,
     ply_layout,
     sample_closed_polyline,
@@ -362,16 +363,25 @@ def _stitch_part(
     yarn_rho = rho * packing  # mass of the yarn per volume of its cylinder
     area = packing * np.pi * d**2 / 4.0  # fibre cross-section of the yarn
     kind = path.kind[first.segment]
-    types, bond_type = rest_length_types(
-        first.bond_length,
-        "stitch",
-        modulus * area,
-        lambda j, i: f"stitch_{SEGMENT_KINDS[kind[i]]}_{j}",
-    )
+    # Held loops keep their length while legs and underlaps are pulled: never one type for both.
+    loop = kind == SEGMENT_KINDS.index("loop")
+    classes = [loop, ~loop] if stitch.interlock == "held" else [np.ones_like(loop)]
+    types: tuple[BondType, ...] = ()
+    bond_type = np.zeros(len(kind), dtype=np.int64)
+    for members in classes:
+        member_kind, offset = kind[members], len(types)
+        new, inverse = rest_length_types(
+            first.bond_length[members],
+            "stitch",
+            modulus * area,
+            lambda j, i: f"stitch_{SEGMENT_KINDS[member_kind[i]]}_{offset + j}",  # noqa: B023
+        )
+        bond_type[members] = inverse + offset
+        types += new
     cylinder = np.pi * d**2 / 4.0
     bead_density = yarn_rho * cylinder * first.length_per_bead / (np.pi * d**3 / 6.0)
     offsets = (np.arange(n_yarns) * per_yarn)[:, None, None]
-    return Part(
+    yarns = Part(
         positions=_wrapped(np.stack([c.positions for c in chains]), cell),
         type_id=np.zeros(n_yarns * per_yarn, dtype=np.int64),
         density=np.tile(bead_density, n_yarns),
@@ -382,4 +392,58 @@ def _stitch_part(
         bond_types=types,
         needle_points=path.needle_points,
         needle_diameter=needle,
+    )
+    if stitch.interlock == "none":
+        return yarns
+    corner_bead = path.link_corners[..., 0] * per_yarn + np.searchsorted(
+        first.segment, path.link_corners[..., 1]
+    )
+    return _with_links(yarns, corner_bead, path, cell, spacing, modulus * area, yarn_rho * cylinder)
+
+
+def _with_links(
+    yarns: Part,
+    corner_bead: np.ndarray,
+    path: StitchPath,
+    cell: tuple[float, float],
+    spacing: float,
+    axial: float,
+    linear_density: float,
+) -> Part:
+    """``yarns`` with the interlooping links of ``path`` after them: per link a straight chain
+    of equal bonds (about ``spacing`` um) from the corner bead ``corner_bead[l, 0]`` to
+    ``corner_bead[l, 1]`` ((L, 2) int), its inner beads one molecule each, of the yarn's axial
+    stiffness ``axial`` (nN) and mass per length ``linear_density`` (pg/um); one bond type."""
+    length = float(np.linalg.norm(path.link_vector))
+    n_bonds = max(2, round(length / spacing))  # at least one inner bead: contact with the bed
+    n_links, n_inner = len(corner_bead), n_bonds - 1
+    starts = path.yarn_vertices[path.link_corners[:, 0, 0], path.link_corners[:, 0, 1]]
+    fraction = np.arange(1, n_bonds) / n_bonds
+    inner = starts[:, None, :] + fraction[None, :, None] * path.link_vector
+    first_inner = len(yarns.positions) + np.arange(n_links)[:, None] * n_inner
+    chain = np.hstack([corner_bead[:, :1], first_inner + np.arange(n_inner), corner_bead[:, 1:]])
+    bonds = np.stack([chain[:, :-1], chain[:, 1:]], axis=-1).reshape(-1, 2)
+    bond_length = length / n_bonds
+    d = yarns.atom_types[0].diameter
+    link_type = BondType(
+        f"stitch_link_{len(yarns.bond_types)}",
+        "stitch",
+        axial / (2 * bond_length),
+        bond_length,
+        axial,
+    )
+    n_new = n_links * n_inner
+    return replace(
+        yarns,
+        positions=np.vstack([yarns.positions, _wrapped(inner, cell).reshape(-1, 3)]),
+        type_id=np.concatenate([yarns.type_id, np.zeros(n_new, dtype=np.int64)]),
+        density=np.concatenate(
+            [yarns.density, np.full(n_new, linear_density * bond_length / (np.pi * d**3 / 6.0))]
+        ),
+        mol_id=np.concatenate([yarns.mol_id, yarns.n_chains + np.arange(n_new)]),
+        bonds=np.vstack([yarns.bonds, bonds]),
+        bond_type=np.concatenate(
+            [yarns.bond_type, np.full(len(bonds), len(yarns.bond_types), dtype=np.int64)]
+        ),
+        bond_types=(*yarns.bond_types, link_type),
     )

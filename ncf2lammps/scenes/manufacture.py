@@ -43,7 +43,7 @@ from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, read_final
 from ..model import Model
 from ..numerics import Prepared
-from ..spec import FabricSpec
+from ..spec import FabricSpec, SpecError
 from .base import Scene
 from .stitch import hole_attrs, rest_lengths_file
 
@@ -62,6 +62,9 @@ PUSHOFF_STEP_MOVE = 1.0e-3
 #: (by half on the coarse random bed of tests/test_random_mat.py, measured against the overlap
 #: of the same state at rest); the stage check then measures the overlap itself.
 PUSHOFF_FORCE_MARGIN = 0.25
+
+#: Stitch segment kinds the pretension shortens when the loops are held (``stitch.interlock``).
+PULLED_KINDS = ("leg", "underlap")
 
 #: History rows (of ``CONTROL_EVERY * WINDOW // 2`` steps) over which the final creep rate of the
 #: stitch strain is fitted.
@@ -149,9 +152,14 @@ def deck_values(run: Prepared) -> dict:
         start_radius = 1e-3  # the push-off moves beads after this geometry: start as a line
     speed = units.to_micro(settings.needle_speed_m_s, "m_s")
     damping_steps = math.ceil(2 * settings.damping_time_us / dt)
-    stitch_bonds = [(i + 1, t.r0) for i, t in enumerate(model.bond_types) if t.role == "stitch"]
+    pulled = _pulled_bond_types(spec, model)
+    stitch_bonds = [(i + 1, t.r0) for i, t in enumerate(model.bond_types) if pulled[i]]
+    held_bonds = [
+        (i + 1, t.r0)
+        for i, t in enumerate(model.bond_types)
+        if t.role == "stitch" and not pulled[i]
+    ]
     bond_r0 = np.array([t.r0 for t in model.bond_types])[model.bond_type]
-    stitch_role = np.array([t.role == "stitch" for t in model.bond_types])[model.bond_type]
     mass = run.simulated.mass
     type_mass = [float(mass[model.type_id == t - 1].mean()) for t in (*fibre_types, stitch_type)]
     return {
@@ -176,7 +184,9 @@ def deck_values(run: Prepared) -> dict:
         "strain_rate": settings.pretension_strain_rate_per_us,
         "ramp_steps": settings.max_ramp_steps,
         "stitch_bond_types": stitch_bonds,
-        "stitch_rest_length": float(bond_r0[stitch_role].sum()),
+        "held_bond_types": held_bonds,
+        "pulled_spans": _pulled_spans(model, pulled) if held_bonds else None,
+        "stitch_rest_length": float(bond_r0[pulled[model.bond_type]].sum()),
         "control_every": CONTROL_EVERY,
         "control_time": settings.control_time_us,
         "window": WINDOW,
@@ -188,6 +198,38 @@ def deck_values(run: Prepared) -> dict:
         "pushoff": _pushoff_values(run) if spec.mat.arrangement == "random" else None,
         "rest_lengths_file": rest_lengths_file(spec),
     }
+
+
+def _pulled_bond_types(spec: FabricSpec, model: Model) -> np.ndarray:
+    """(T,) bool, the bond types the pretension shortens: every stitch type, or with
+    ``stitch.interlock = "held"`` the legs' and underlaps' (loops and links keep their length)."""
+    held = spec.stitch.interlock == "held"
+    return np.array(
+        [
+            t.role == "stitch" and (not held or t.name.split("_")[1] in PULLED_KINDS)
+            for t in model.bond_types
+        ],
+        dtype=bool,
+    )
+
+
+def _pulled_spans(model: Model, pulled: np.ndarray) -> list[tuple[int, int]]:
+    """Runs ``(first, last)`` of 1-based bead ids on pulled bonds (``pulled``: (T,) bool per
+    bond type): the group whose bonds the manufacture's tension averages, a bond counting when
+    both its beads are in the group, so no held bond may join two of them."""
+    on_pulled = pulled[model.bond_type]
+    beads = np.unique(model.bonds[on_pulled])
+    inside = np.isin(model.bonds, beads).all(axis=1)
+    if np.any(inside & ~on_pulled):
+        raise SpecError(
+            "stitch.interlock",
+            "held",
+            "needs two bonds at least on every loop: a smaller stitch.diameter_um or"
+            " discretisation.bead_spacing_ratio",
+        )
+    breaks = np.flatnonzero(np.diff(beads) > 1)
+    firsts, lasts = beads[np.r_[0, breaks + 1]], beads[np.r_[breaks, len(beads) - 1]]
+    return [(int(a) + 1, int(b) + 1) for a, b in zip(firsts, lasts, strict=True)]
 
 
 def _stitch_axial_stiffness(model: Model) -> float:

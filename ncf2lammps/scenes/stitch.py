@@ -108,13 +108,17 @@ def deck_value(run: Prepared, scene: str) -> dict | None:
     stitch_type = next(i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch")
     value = {"type": stitch_type, "bonds": len(model.bonds), "rupture": None}
     if ruptures(spec, scene):
-        bonds = [(i + 1, t) for i, t in enumerate(model.bond_types) if t.role == "stitch"]
+        # The interlooping links hold (docs/stitch.md): the yarn breaks in its own path.
+        bonds = [
+            (i + 1, t)
+            for i, t in enumerate(model.bond_types)
+            if t.role == "stitch" and not t.name.startswith("stitch_link")
+        ]
         _check_pretension(spec, [t for _, t in bonds])
-        beads = np.flatnonzero(model.role_mask("stitch"))
-        yarns = np.unique(model.mol_id[beads])
+        yarns = stitch_yarns(model)
         value["rupture"] = {
-            "first_id": int(beads[0]) + 1,
-            "per_yarn": len(beads) // len(yarns),
+            "first_id": int(yarns[0][0]) + 1,
+            "per_yarn": len(yarns[0]),
             "mol_base": int(model.mol_id.max()) + 2,
             "block": RUPTURE_BLOCK,
             "every": RUPTURE_EVERY,
@@ -149,8 +153,12 @@ def _breaks(directory: Path, final_state: str) -> dict:
 
 def stitch_yarns(model: Model) -> list[np.ndarray]:
     """(K,) bead indices of each stitch yarn of ``model`` in path order: the model lays each
-    closed yarn's beads consecutively."""
-    beads = np.flatnonzero(model.role_mask("stitch"))
+    closed yarn's beads consecutively; the inner beads of interlooping links (bonded by links
+    only, laid after the yarns) are left out."""
+    link = np.array([t.name.startswith("stitch_link") for t in model.bond_types], dtype=bool)
+    on_yarn = np.zeros(model.n_atoms, dtype=bool)
+    on_yarn[model.bonds[~link[model.bond_type]].ravel()] = True
+    beads = np.flatnonzero(model.role_mask("stitch") & on_yarn)
     return np.split(beads, np.flatnonzero(np.diff(model.mol_id[beads])) + 1)
 
 

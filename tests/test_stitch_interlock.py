@@ -1,0 +1,165 @@
+"""Interlooped wales (stitch.interlock = "held"): the links that join each needle's loops on the
+loop face, and a pretension that shortens only the legs and underlaps (docs/stitch.md)."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from conftest import tiny_spec
+
+from ncf2lammps import run
+from ncf2lammps.analysis.stitch import yarn_holes
+from ncf2lammps.geometry import SEGMENT_KINDS, stitch_path
+from ncf2lammps.io.datafile import read_data
+from ncf2lammps.model.builder import build_model
+from ncf2lammps.numerics import prepare
+from ncf2lammps.scenes import render_deck
+from ncf2lammps.scenes.stitch import stitch_yarns
+from ncf2lammps.spec import SpecError
+
+GAUGE, STITCH_LENGTH = 5080.0, 2800.0
+LAPPINGS = {"tricot-chain": ((1, 0), (0, 1), (1, 2), (2, 1)), "chain": ((0, 1), (1, 0))}
+
+
+def _kinds(model) -> list[str]:
+    """The segment kind of each bond type (``""`` for fibre types)."""
+    return [t.name.split("_")[1] if t.role == "stitch" else "" for t in model.bond_types]
+
+
+@pytest.mark.parametrize("wales", [1, 2, 3])
+@pytest.mark.parametrize("pattern", ["tricot-chain", "chain"])
+def test_links_join_each_sinking_hole_to_the_next_course_on_its_needle(pattern, wales):
+    # one link per hole where a yarn sinks; it starts at that top corner and ends, one stitch
+    # length along x on the loop face (to 1e-9 um in the periodic cell), at the top corner where
+    # the next course rises; every such corner is used once as a start and once as an end
+    cell = (2 * len(LAPPINGS[pattern]) * STITCH_LENGTH, wales * GAUGE)
+    path = stitch_path(LAPPINGS[pattern], GAUGE, STITCH_LENGTH, cell, -50.0, 700.0)
+    vertices, n_vertices = path.yarn_vertices, path.yarn_vertices.shape[1]
+    n_courses = n_vertices // 2
+    assert len(path.link_corners) == wales * n_courses // 2
+    (start_yarn, start_vertex), (end_yarn, end_vertex) = np.moveaxis(path.link_corners, 0, -1)
+    start, end = vertices[start_yarn, start_vertex], vertices[end_yarn, end_vertex]
+    assert np.all(start[:, 2] == 700.0) and np.all(end[:, 2] == 700.0)
+    assert np.all(vertices[start_yarn, start_vertex + 1, 2] == -50.0)  # the yarn sinks there
+    assert np.all(vertices[end_yarn, end_vertex - 1, 2] == -50.0)  # the next course rises
+    gap = (start + path.link_vector - end)[:, :2]
+    gap -= np.rint(gap / cell) * cell
+    assert np.abs(gap).max() < 1e-9
+    np.testing.assert_array_equal(path.link_vector, [STITCH_LENGTH, 0.0, 0.0])
+    for corners in path.link_corners.transpose(1, 0, 2):
+        assert len(np.unique(corners, axis=0)) == len(corners)
+
+
+@pytest.fixture(scope="module", params=[1, 2], ids=["one wale", "two wales"])
+def models(request):
+    """(free, held) tiny tricot-chain models one or two wales wide."""
+    width = {"width_mm": 5.08 * request.param}
+    return tuple(
+        build_model(tiny_spec(cell=width, stitch={"interlock": interlock}))
+        for interlock in ("none", "held")
+    )
+
+
+def test_held_model_adds_straight_links_of_the_yarns_material(models):
+    # the held model is the free one (its beads first, unchanged) plus the links' inner beads:
+    # straight chains of equal bonds along +x (1e-9 um), two junction beads of 3 bonds per
+    # link, the yarn's axial stiffness and mass per length (1e-12), loops in types of their own
+    free, held = models
+    n_free = free.n_atoms
+    np.testing.assert_array_equal(held.positions[:n_free], free.positions)
+    link_type = next(i for i, kind in enumerate(_kinds(held)) if kind == "link")
+    links = held.bonds[held.bond_type == link_type]
+    step = held.positions[links[:, 1]] - held.positions[links[:, 0]]
+    step[:, :2] -= np.rint(step[:, :2] / held.box.lengths[:2]) * held.box.lengths[:2]
+    r0 = held.bond_types[link_type].r0
+    assert np.abs(step - [r0, 0.0, 0.0]).max() < 1e-9
+    n_links = len(free.needle_points) // 2
+    degree = np.bincount(held.bonds.ravel(), minlength=held.n_atoms)
+    assert np.count_nonzero(degree == 3) == 2 * n_links
+    assert np.all(held.mol_id[n_free:] > free.mol_id.max())
+    loop = held.bond_types[_kinds(held).index("loop")]
+    assert held.bond_types[link_type].axial_stiffness == pytest.approx(loop.axial_stiffness, 1e-12)
+    mass = held.density * np.pi * held.diameter**3 / 6.0
+    inner = np.arange(n_free, held.n_atoms)
+    loop_bead = held.bonds[held.bond_type == _kinds(held).index("loop")][1, 0]
+    assert mass[inner] / r0 == pytest.approx(mass[loop_bead] / loop.r0, rel=1e-12)
+    assert {k for k in _kinds(held) if k} == set(SEGMENT_KINDS)
+
+
+def test_yarns_and_holes_leave_the_links_out(models):
+    # the yarns of the held model are the free model's, so are their holes (exactly)
+    free, held = models
+    for a, b in zip(stitch_yarns(free), stitch_yarns(held), strict=True):
+        np.testing.assert_array_equal(a, b)
+        holes_free = yarn_holes(free.positions, free.box, a)
+        holes_held = yarn_holes(held.positions, held.box, b)
+        np.testing.assert_array_equal(holes_free.fractional, holes_held.fractional)
+
+
+def test_the_pretension_shortens_and_measures_legs_and_underlaps_only():
+    # the manufacture deck's pulled group is exactly the beads of leg and underlap bonds, fix
+    # adapt shrinks only their types, the tension averages over them; the default deck pulls
+    # every stitch type and has no such group
+    prepared = prepare(tiny_spec(stitch={"interlock": "held"}))
+    model, text = prepared.model, render_deck(prepared, "manufacture").text
+    kinds = _kinds(model)
+    pulled = [i for i, k in enumerate(kinds) if k in ("leg", "underlap")]
+    ids = set()
+    for line in re.findall(r"^group\s+stitch_pulled id (.*)$", text, re.M):
+        for span in line.split():
+            first, last = map(int, span.split(":"))
+            ids.update(range(first, last + 1))
+    expected = np.unique(model.bonds[np.isin(model.bond_type, pulled)]) + 1
+    assert sorted(ids) == expected.tolist()
+    adapt = re.search(r"^fix\s+pretension stitch adapt 1 (.*) reset no$", text, re.M).group(1)
+    assert sorted(map(int, re.findall(r"r0 (\d+) v_r0", adapt))) == [i + 1 for i in pulled]
+    assert "compute         stitch_bonds stitch_pulled bond/local force" in text
+    free = render_deck(prepare(tiny_spec()), "manufacture").text
+    assert "stitch_pulled" not in free
+    n_stitch = sum(t.role == "stitch" for t in prepare(tiny_spec()).model.bond_types)
+    assert free.count(" v_r0_") == n_stitch
+
+
+def test_a_loop_of_one_bond_is_refused():
+    # a 1.9 mm stitch bead spacing leaves the 2.8 mm loops one bond each: the tension's bead
+    # group would count them as pulled
+    spec = tiny_spec(
+        stitch={"interlock": "held", "diameter_um": 1900.0, "needle_diameter_mm": 2.5},
+        discretisation={"chain_diameter_um": 250.0, "bead_spacing_ratio": 1.0},
+    )
+    with pytest.raises(SpecError, match=r"stitch\.interlock.*two bonds"):
+        render_deck(prepare(spec), "manufacture")
+
+
+@pytest.mark.lammps
+def test_held_loops_keep_their_length_while_the_legs_and_underlaps_pull(tmp_path):
+    """After manufacture the loops and links keep their generated rest length exactly, the legs
+    and underlaps have shrunk by one common strain, their mean tension is the target (5 %, the
+    controller's tolerance plus the window), and the held loops carry the pull: their mean
+    tension is positive (the underlaps pull on them through the junctions)."""
+    spec = tiny_spec(stitch={"interlock": "held"})
+    folder = tmp_path / "run"
+    run(spec, folder, scenes=["manufacture"])
+    model = prepare(spec).model
+    data = read_data(folder / "manufactured.data")
+    kinds = _kinds(model)
+    # strain of each stitch type's rest length; the data file keeps ~7 digits of r0
+    strain = {
+        kind: 1.0 - data.bond_coeffs[index, 1] / model.bond_types[index].r0
+        for index, kind in enumerate(kinds)
+        if kind
+    }
+    assert abs(strain["loop"]) < 1e-5 and abs(strain["link"]) < 1e-5
+    assert strain["leg"] > 1e-3 and strain["leg"] == pytest.approx(strain["underlap"], abs=1e-5)
+    positions, lengths = data.positions, data.box.lengths
+    step = positions[data.bonds[:, 1]] - positions[data.bonds[:, 0]]
+    step[:, :2] -= np.rint(step[:, :2] / lengths[:2]) * lengths[:2]
+    k, r0 = data.bond_coeffs[data.bond_type].T
+    tension = 2.0 * k * (np.linalg.norm(step, axis=1) - r0) * 1e-9  # N
+    kind = np.array(kinds)[data.bond_type]
+    on_pulled = np.isin(kind, ("leg", "underlap"))
+    target = spec.manufacture.stitch_tension_N
+    assert tension[on_pulled].mean() == pytest.approx(target, rel=0.05)
+    assert tension[np.isin(kind, ("loop", "link"))].mean() > 0.0
