@@ -13,6 +13,7 @@ from ncf2lammps import run
 from ncf2lammps.analysis.stitch import yarn_holes
 from ncf2lammps.geometry import SEGMENT_KINDS, stitch_path
 from ncf2lammps.io.datafile import read_data
+from ncf2lammps.io.results import read_results
 from ncf2lammps.model.builder import build_model
 from ncf2lammps.numerics import prepare
 from ncf2lammps.scenes import render_deck
@@ -163,3 +164,36 @@ def test_held_loops_keep_their_length_while_the_legs_and_underlaps_pull(tmp_path
     target = spec.manufacture.stitch_tension_N
     assert tension[on_pulled].mean() == pytest.approx(target, rel=0.05)
     assert tension[np.isin(kind, ("loop", "link"))].mean() > 0.0
+
+
+def test_held_rupture_breaks_the_yarn_not_the_links():
+    # with rupture the loading decks break every stitch type but the links (the interlock
+    # holds); the manufacture writes the rest length of every type the loading decks read
+    prepared = prepare(tiny_spec(stitch={"interlock": "held", "rupture": True}))
+    kinds = _kinds(prepared.model)
+    shear = render_deck(prepared, "shear", plain_lmp=True).text
+    broken = sorted(map(int, re.findall(r"bond/break \d+ (\d+) ", shear)))
+    assert broken == [i + 1 for i, k in enumerate(kinds) if k and k != "link"]
+    manufacture = render_deck(prepared, "manufacture").text
+    written = sorted(map(int, re.findall(r"variable +stitch_r0_(\d+) equal", manufacture)))
+    assert written == [i + 1 for i, k in enumerate(kinds) if k]
+
+
+@pytest.mark.lammps
+def test_a_weak_held_stitch_breaks_in_its_yarn_and_stays_stable(tmp_path):
+    """The tiny held cell with a stitch of breaking load 0.38 N (0.5 cN/dtex x 76 dtex) sheared
+    2 deg: bonds break (the held loops carry more than the 0.1 N pretension), the recorded
+    count equals the bonds missing from the final data file, none of them a link, and the run
+    ends without a guard's stop."""
+    spec = tiny_spec(
+        stitch={"interlock": "held", "rupture": True, "tenacity_cN_dtex": 0.5},
+        shear={"final_angle_deg": 2.0},
+    )
+    folder = tmp_path / "run"
+    group = read_results(run(spec, folder, scenes=["shear"]))["shear"]
+    broken = int(group["attrs"]["stitch_bonds_broken"])
+    assert broken > 0 and group["stitch_bonds_broken"][-1] == broken
+    assert "link" not in group["attrs"]["stitch_broken_bonds"]
+    before = read_data(folder / "manufactured.data")
+    after = read_data(sorted(folder.glob("shear_*deg.data"))[-1])
+    assert len(before.bonds) - len(after.bonds) == broken
