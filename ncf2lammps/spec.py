@@ -238,11 +238,12 @@ class StitchSpec:
     )
     interlock: str = _f(
         "none",
-        choices=("none", "held"),
+        choices=("none", "held", "sliding"),
         source="none: the paper's free idealised yarn; held: each needle's loops joined along"
         " the wale on the loop face, as a knitted loop is drawn through the loop of the course"
         " before (D. J. Spencer, Knitting Technology, 3rd ed., 2001: warp-knitted loops), and"
-        " the pretension shortens only legs and underlaps (docs/stitch.md)",
+        " the pretension shortens only legs and underlaps; sliding: the same, each link ending"
+        " in a ring the next course's yarn slips through with friction (docs/stitch.md)",
     )
     rupture: bool = _f(False, source="false: the paper's unbreakable stitch (docs/stitch.md)")
     rupture_criterion: str = _f(

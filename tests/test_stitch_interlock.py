@@ -7,7 +7,7 @@ import re
 
 import numpy as np
 import pytest
-from conftest import tiny_spec
+from conftest import case_spec, tiny_spec
 
 from ncf2lammps import run
 from ncf2lammps.analysis.stitch import yarn_holes
@@ -55,55 +55,108 @@ def test_links_join_each_sinking_hole_to_the_next_course_on_its_needle(pattern, 
 
 @pytest.fixture(scope="module", params=[1, 2], ids=["one wale", "two wales"])
 def models(request):
-    """(free, held) tiny tricot-chain models one or two wales wide."""
+    """{interlock: model} of the tiny tricot-chain cell one or two wales wide."""
     width = {"width_mm": 5.08 * request.param}
-    return tuple(
-        build_model(tiny_spec(cell=width, stitch={"interlock": interlock}))
-        for interlock in ("none", "held")
-    )
+    return {
+        interlock: build_model(tiny_spec(cell=width, stitch={"interlock": interlock}))
+        for interlock in ("none", "held", "sliding")
+    }
+
+
+def _link_chains(model) -> np.ndarray:
+    """(L, n) bead indices of each link from its start corner to its end bead (a corner, or
+    a ring's bead 0): the model lays each link's bonds in order."""
+    link = np.isin(model.bond_type, [i for i, k in enumerate(_kinds(model)) if k == "link"])
+    bonds = model.bonds[link].reshape(len(model.needle_points) // 2, -1, 2)
+    return np.column_stack([bonds[:, :, 0], bonds[:, -1, 1]])
+
+
+def _distances(model, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(len(a), len(b)) minimum-image distances between beads ``a`` and ``b`` (um)."""
+    delta = model.positions[a][:, None, :] - model.positions[b][None, :, :]
+    lengths = model.box.lengths[:2]
+    delta[..., :2] -= np.rint(delta[..., :2] / lengths) * lengths
+    return np.linalg.norm(delta, axis=-1)
+
+
+def _unwrapped_steps(model, chains: np.ndarray) -> np.ndarray:
+    """(L, n - 1, 3) minimum-image steps along each chain (um)."""
+    step = np.diff(model.positions[chains], axis=1)
+    lengths = model.box.lengths[:2]
+    step[..., :2] -= np.rint(step[..., :2] / lengths) * lengths
+    return step
 
 
 def test_held_model_adds_straight_links_of_the_yarns_material(models):
     # the held model is the free one (its beads first, unchanged) plus the links' inner beads:
-    # straight chains of equal bonds along +x (1e-9 um), two junction beads of 3 bonds per
-    # link, the yarn's axial stiffness and mass per length (1e-12), loops in types of their own
-    free, held = models
+    # straight chains of equal bonds along +x (1e-9 um) from a corner to a corner, two junction
+    # beads of 3 bonds per link, the yarn's axial stiffness and mass per length (1e-12), loops in
+    # types of their own
+    free, held = models["none"], models["held"]
     n_free = free.n_atoms
     np.testing.assert_array_equal(held.positions[:n_free], free.positions)
-    link_type = next(i for i, kind in enumerate(_kinds(held)) if kind == "link")
-    links = held.bonds[held.bond_type == link_type]
-    step = held.positions[links[:, 1]] - held.positions[links[:, 0]]
-    step[:, :2] -= np.rint(step[:, :2] / held.box.lengths[:2]) * held.box.lengths[:2]
+    chains = _link_chains(held)
+    (link_type,) = {_kinds(held).index("link")}
     r0 = held.bond_types[link_type].r0
-    assert np.abs(step - [r0, 0.0, 0.0]).max() < 1e-9
-    n_links = len(free.needle_points) // 2
+    assert np.abs(_unwrapped_steps(held, chains) - [r0, 0.0, 0.0]).max() < 1e-9
+    assert np.all(chains[:, [0, -1]] < n_free) and np.all(chains[:, 1:-1] >= n_free)
     degree = np.bincount(held.bonds.ravel(), minlength=held.n_atoms)
-    assert np.count_nonzero(degree == 3) == 2 * n_links
+    assert np.count_nonzero(degree == 3) == chains.size - chains[:, 1:-1].size
     assert np.all(held.mol_id[n_free:] > free.mol_id.max())
     loop = held.bond_types[_kinds(held).index("loop")]
     assert held.bond_types[link_type].axial_stiffness == pytest.approx(loop.axial_stiffness, 1e-12)
     mass = held.density * np.pi * held.diameter**3 / 6.0
-    inner = np.arange(n_free, held.n_atoms)
     loop_bead = held.bonds[held.bond_type == _kinds(held).index("loop")][1, 0]
-    assert mass[inner] / r0 == pytest.approx(mass[loop_bead] / loop.r0, rel=1e-12)
-    assert {k for k in _kinds(held) if k} == set(SEGMENT_KINDS)
+    assert mass[n_free:] / r0 == pytest.approx(mass[loop_bead] / loop.r0, rel=1e-12)
+    assert {k for k in _kinds(held) if k} == set(SEGMENT_KINDS) - {"ring"}
 
 
-def test_yarns_and_holes_leave_the_links_out(models):
-    # the yarns of the held model are the free model's, so are their holes (exactly)
-    free, held = models
-    for a, b in zip(stitch_yarns(free), stitch_yarns(held), strict=True):
+def test_sliding_links_end_in_rings_that_touch_the_leg(models):
+    # a sliding link runs along +x on the loop face, drops by one yarn diameter d and ends on
+    # bead 0 of a closed ring of radius d around the next course's leg, one d below its top
+    # corner: the ring's beads touch the leg (the nearest yarn bead is d away in the ring's
+    # plane, up to half a bead spacing s = d/2 above or below it), and no link bead overlaps
+    # a ring bead it is not bonded to within two bonds
+    held, sliding = models["held"], models["sliding"]
+    d = sliding.diameter[-1]
+    chains = _link_chains(sliding)
+    steps = _unwrapped_steps(sliding, chains)
+    assert np.all(steps[..., 0] >= 0.0) and np.all(steps[..., 1] == 0.0)
+    assert np.all(steps[..., 2] <= 0.0)
+    np.testing.assert_allclose(steps.sum(axis=1), [[2800.0 - d, 0.0, -d]] * len(chains))
+    rings = np.isin(sliding.bond_type, [i for i, k in enumerate(_kinds(sliding)) if k == "ring"])
+    ring_beads = np.unique(sliding.bonds[rings])
+    assert set(chains[:, -1]) <= set(ring_beads)
+    assert len(ring_beads) == np.count_nonzero(rings)  # closed rings: one bond per bead
+    corner_ends = _link_chains(held)[:, -1]  # the same links' end corners
+    centre = sliding.positions[chains[:, -1]] + [d, 0.0, 0.0]
+    delta = centre - (sliding.positions[corner_ends] - [0.0, 0.0, d])
+    delta[:, :2] -= np.rint(delta[:, :2] / sliding.box.lengths[:2]) * sliding.box.lengths[:2]
+    assert np.abs(delta).max() < 1e-9
+    yarns = np.concatenate(stitch_yarns(sliding))
+    nearest_yarn = _distances(sliding, ring_beads, yarns).min()
+    assert d * (1 - 1e-9) <= nearest_yarn < d * np.hypot(1.0, 0.25)  # a leg bead within s/2
+    inner = chains[:, 1:-3].ravel()  # the link beads not within two bonds of a ring
+    assert _distances(sliding, ring_beads, inner).min() >= d * (1 - 1e-9)
+
+
+@pytest.mark.parametrize("interlock", ["held", "sliding"])
+def test_yarns_and_holes_leave_the_interlock_out(models, interlock):
+    # the yarns of an interlocked model are the free model's, so are their holes (exactly)
+    free, linked = models["none"], models[interlock]
+    for a, b in zip(stitch_yarns(free), stitch_yarns(linked), strict=True):
         np.testing.assert_array_equal(a, b)
         holes_free = yarn_holes(free.positions, free.box, a)
-        holes_held = yarn_holes(held.positions, held.box, b)
-        np.testing.assert_array_equal(holes_free.fractional, holes_held.fractional)
+        holes_linked = yarn_holes(linked.positions, linked.box, b)
+        np.testing.assert_array_equal(holes_free.fractional, holes_linked.fractional)
 
 
-def test_the_pretension_shortens_and_measures_legs_and_underlaps_only():
+@pytest.mark.parametrize("interlock", ["held", "sliding"])
+def test_the_pretension_shortens_and_measures_legs_and_underlaps_only(interlock):
     # the manufacture deck's pulled group is exactly the beads of leg and underlap bonds, fix
     # adapt shrinks only their types, the tension averages over them; the default deck pulls
     # every stitch type and has no such group
-    prepared = prepare(tiny_spec(stitch={"interlock": "held"}))
+    prepared = prepare(tiny_spec(stitch={"interlock": interlock}))
     model, text = prepared.model, render_deck(prepared, "manufacture").text
     kinds = _kinds(model)
     pulled = [i for i, k in enumerate(kinds) if k in ("leg", "underlap")]
@@ -123,6 +176,25 @@ def test_the_pretension_shortens_and_measures_legs_and_underlaps_only():
     assert free.count(" v_r0_") == n_stitch
 
 
+def test_sliding_rings_hold_by_the_rigid_stitch_law_under_the_bundle_law():
+    # under the bundle law the stitch-stitch pair takes the rigid law of the fibre-stitch pairs,
+    # with the contact's friction, when the interlock slides (its rings hold by contact); the
+    # held interlock keeps the pair on the bundle law of "* *"
+    def pair_lines(interlock):
+        spec = case_spec("hpt310-bundle-coarse").replace(stitch={"interlock": interlock})
+        prepared = prepare(spec)
+        t = next(i + 1 for i, a in enumerate(prepared.model.atom_types) if a.role == "stitch")
+        text = render_deck(prepared, "manufacture").text
+        return dict(re.findall(rf"^pair_coeff +(\d+) {t} (.*)$", text, re.M)), str(t)
+
+    lines, stitch = pair_lines("sliding")
+    fibre_stitch = {v for k, v in lines.items() if k != stitch}
+    assert len(fibre_stitch) == 1 and lines[stitch] == fibre_stitch.pop()
+    assert lines[stitch].startswith("hooke ")
+    lines, stitch = pair_lines("held")
+    assert stitch not in lines
+
+
 def test_a_loop_of_one_bond_is_refused():
     # a 1.9 mm stitch bead spacing leaves the 2.8 mm loops one bond each: the tension's bead
     # group would count them as pulled
@@ -135,12 +207,15 @@ def test_a_loop_of_one_bond_is_refused():
 
 
 @pytest.mark.lammps
-def test_held_loops_keep_their_length_while_the_legs_and_underlaps_pull(tmp_path):
-    """After manufacture the loops and links keep their generated rest length exactly, the legs
-    and underlaps have shrunk by one common strain, their mean tension is the target (5 %, the
-    controller's tolerance plus the window), and the held loops carry the pull: their mean
-    tension is positive (the underlaps pull on them through the junctions)."""
-    spec = tiny_spec(stitch={"interlock": "held"})
+@pytest.mark.parametrize("interlock", ["held", "sliding"])
+def test_held_loops_keep_their_length_while_the_legs_and_underlaps_pull(tmp_path, interlock):
+    """After manufacture the loops and links keep their generated rest length (to the data
+    file's digits), the legs and underlaps have shrunk by one common strain, their mean tension
+    is the target (5 %, the controller's tolerance plus the window), and the held loops carry
+    the pull: their mean tension is positive (the underlaps pull on them through the
+    junctions). A sliding link's ring still encircles its yarn: its centroid lies within half
+    its radius d of a yarn bead (a ring slipped off would lie d or more away)."""
+    spec = tiny_spec(stitch={"interlock": interlock})
     folder = tmp_path / "run"
     run(spec, folder, scenes=["manufacture"])
     model = prepare(spec).model
@@ -164,16 +239,30 @@ def test_held_loops_keep_their_length_while_the_legs_and_underlaps_pull(tmp_path
     target = spec.manufacture.stitch_tension_N
     assert tension[on_pulled].mean() == pytest.approx(target, rel=0.05)
     assert tension[np.isin(kind, ("loop", "link"))].mean() > 0.0
+    if interlock == "sliding":
+        rings = np.unique(data.bonds[kind == "ring"]).reshape(len(model.needle_points) // 2, -1)
+        yarns = np.concatenate(stitch_yarns(model))
+        d = model.diameter[yarns[0]]
+        for ring in rings:
+            step = np.diff(data.positions[ring], axis=0)
+            step[:, :2] -= np.rint(step[:, :2] / lengths[:2]) * lengths[:2]
+            centroid = data.positions[ring[0]] + np.vstack([0 * step[:1], np.cumsum(step, 0)]).mean(
+                0
+            )
+            to_yarn = positions[yarns] - centroid
+            to_yarn[:, :2] -= np.rint(to_yarn[:, :2] / lengths[:2]) * lengths[:2]
+            assert np.linalg.norm(to_yarn, axis=1).min() < 0.5 * d
 
 
-def test_held_rupture_breaks_the_yarn_not_the_links():
-    # with rupture the loading decks break every stitch type but the links (the interlock
-    # holds); the manufacture writes the rest length of every type the loading decks read
-    prepared = prepare(tiny_spec(stitch={"interlock": "held", "rupture": True}))
+@pytest.mark.parametrize("interlock", ["held", "sliding"])
+def test_rupture_breaks_the_yarn_not_the_interlock(interlock):
+    # with rupture the loading decks break every stitch type but the links and rings (the
+    # interlock holds); the manufacture writes the rest length of every type the decks read
+    prepared = prepare(tiny_spec(stitch={"interlock": interlock, "rupture": True}))
     kinds = _kinds(prepared.model)
     shear = render_deck(prepared, "shear", plain_lmp=True).text
     broken = sorted(map(int, re.findall(r"bond/break \d+ (\d+) ", shear)))
-    assert broken == [i + 1 for i, k in enumerate(kinds) if k and k != "link"]
+    assert broken == [i + 1 for i, k in enumerate(kinds) if k in ("leg", "loop", "underlap")]
     manufacture = render_deck(prepared, "manufacture").text
     written = sorted(map(int, re.findall(r"variable +stitch_r0_(\d+) equal", manufacture)))
     assert written == [i + 1 for i, k in enumerate(kinds) if k]

@@ -2,7 +2,7 @@
 
 from .chains import BeadChain, sample_closed_polyline
 from .mat import PlyLayout, ply_chains, ply_layout
-from .stitch import SEGMENT_KINDS, StitchPath, stitch_path
+from .stitch import SEGMENT_KINDS, StitchPath, slip_rings, stitch_path
 
 __all__ = [
     "SEGMENT_KINDS",
@@ -12,5 +12,6 @@ __all__ = [
     "ply_chains",
     "ply_layout",
     "sample_closed_polyline",
+    "slip_rings",
     "stitch_path",
 ]

@@ -19,6 +19,8 @@ another. The links stand for that: on the loop face, straight along x, from the 
 where a yarn sinks (odd course ``k``) to the top corner where the course ``k + 1`` rises on the
 same needle (the same yarn in a chain stitch, the neighbouring wale's yarn in a tricot). With
 full threading every needle has a hole at every course, so every sinking hole has its link.
+A sliding link ends in a ring (:func:`slip_rings`) around the rising yarn's leg instead of on its
+corner: the yarn can slip through the interlock, held by contact and friction alone.
 """
 
 from __future__ import annotations
@@ -27,11 +29,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SEGMENT_KINDS", "StitchPath", "stitch_path"]
+__all__ = ["SEGMENT_KINDS", "StitchPath", "slip_rings", "stitch_path"]
 
-#: Names of the segment kinds, indexed by :attr:`StitchPath.kind`; ``link`` names the
-#: interlooping links (not a segment of a yarn's path).
-SEGMENT_KINDS = ("leg", "loop", "underlap", "link")
+#: Names of the segment kinds, indexed by :attr:`StitchPath.kind`; ``link`` and ``ring`` name
+#: the interlooping links and their slip rings (not segments of a yarn's path).
+SEGMENT_KINDS = ("leg", "loop", "underlap", "link", "ring")
 
 
 @dataclass(frozen=True)
@@ -113,3 +115,11 @@ def stitch_path(
         link_corners=np.stack([starts, ends], axis=1),
         link_vector=np.array([stitch_length, 0.0, 0.0]),
     )
+
+
+def slip_rings(centres: np.ndarray, radius: float, n_beads: int) -> np.ndarray:
+    """(L, n_beads, 3) bead centres of horizontal rings of ``radius`` (um) around ``centres``
+    ((L, 3) um), in order around each ring, bead 0 on the ring's -x side."""
+    angle = np.pi + 2.0 * np.pi * np.arange(n_beads) / n_beads
+    circle = radius * np.column_stack([np.cos(angle), np.sin(angle), np.zeros(n_beads)])
+    return np.asarray(centres, dtype=float)[:, None, :] + circle[None, :, :]

@@ -6,6 +6,7 @@ positions are wrapped into the cell in x and y; :func:`~.parts.join` assembles t
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -18,6 +19,7 @@ from ..geometry import (
     ply_chains,
     ply_layout,
     sample_closed_polyline,
+    slip_rings,
     stitch_path,
 )
 from ..geometry.bundle import chain_fill
@@ -365,7 +367,7 @@ def _stitch_part(
     kind = path.kind[first.segment]
     # Held loops keep their length while legs and underlaps are pulled: never one type for both.
     loop = kind == SEGMENT_KINDS.index("loop")
-    classes = [loop, ~loop] if stitch.interlock == "held" else [np.ones_like(loop)]
+    classes = [np.ones_like(loop)] if stitch.interlock == "none" else [loop, ~loop]
     types: tuple[BondType, ...] = ()
     bond_type = np.zeros(len(kind), dtype=np.int64)
     for members in classes:
@@ -398,7 +400,10 @@ def _stitch_part(
     corner_bead = path.link_corners[..., 0] * per_yarn + np.searchsorted(
         first.segment, path.link_corners[..., 1]
     )
-    return _with_links(yarns, corner_bead, path, cell, spacing, modulus * area, yarn_rho * cylinder)
+    sliding = stitch.interlock == "sliding"
+    return _with_links(
+        yarns, corner_bead, path, cell, spacing, modulus * area, yarn_rho * cylinder, sliding
+    )
 
 
 def _with_links(
@@ -409,41 +414,78 @@ def _with_links(
     spacing: float,
     axial: float,
     linear_density: float,
+    sliding: bool,
 ) -> Part:
-    """``yarns`` with the interlooping links of ``path`` after them: per link a straight chain
-    of equal bonds (about ``spacing`` um) from the corner bead ``corner_bead[l, 0]`` to
-    ``corner_bead[l, 1]`` ((L, 2) int), its inner beads one molecule each, of the yarn's axial
-    stiffness ``axial`` (nN) and mass per length ``linear_density`` (pg/um); one bond type."""
-    length = float(np.linalg.norm(path.link_vector))
-    n_bonds = max(2, round(length / spacing))  # at least one inner bead: contact with the bed
-    n_links, n_inner = len(corner_bead), n_bonds - 1
-    starts = path.yarn_vertices[path.link_corners[:, 0, 0], path.link_corners[:, 0, 1]]
-    fraction = np.arange(1, n_bonds) / n_bonds
-    inner = starts[:, None, :] + fraction[None, :, None] * path.link_vector
-    first_inner = len(yarns.positions) + np.arange(n_links)[:, None] * n_inner
-    chain = np.hstack([corner_bead[:, :1], first_inner + np.arange(n_inner), corner_bead[:, 1:]])
-    bonds = np.stack([chain[:, :-1], chain[:, 1:]], axis=-1).reshape(-1, 2)
-    bond_length = length / n_bonds
+    """``yarns`` with the interlooping links of ``path`` after them (docs/stitch.md).
+
+    Held: per link a straight chain of equal bonds (about ``spacing`` um) from the corner bead
+    ``corner_bead[l, 0]`` to ``corner_bead[l, 1]`` ((L, 2) int). Sliding: the chain runs on the
+    loop face to one yarn diameter d short of the end corner, drops by d and ends on a ring of
+    radius d around the leg one d below that corner (the ring's beads touch the leg's). Inner
+    beads one molecule each, every link and ring of the yarn's axial stiffness ``axial`` (nN)
+    and mass per length ``linear_density`` (pg/um); links and rings have bond types of their own.
+    """
     d = yarns.atom_types[0].diameter
-    link_type = BondType(
-        f"stitch_link_{len(yarns.bond_types)}",
-        "stitch",
-        axial / (2 * bond_length),
-        bond_length,
-        axial,
+    start = path.yarn_vertices[path.link_corners[0, 0, 0], path.link_corners[0, 0, 1]]
+    end = start + path.link_vector
+    waypoints = [start, end - [d, 0.0, 0.0], end - [d, 0.0, d]] if sliding else [start, end]
+    points, lengths = [], []
+    for a, b in itertools.pairwise(waypoints):
+        n = max(1, round(float(np.linalg.norm(b - a)) / spacing))
+        points.append(a + np.arange(1, n + 1)[:, None] / n * (b - a))
+        lengths += [float(np.linalg.norm(b - a)) / n] * n
+    template = np.vstack(points)[:-1]  # the inner beads; the last point is the end bead
+    if not sliding and len(template) == 0:
+        template = start + 0.5 * path.link_vector[None, :]  # one inner bead: it meets the bed
+        lengths = [0.5 * lengths[0]] * 2
+    n_links, n_inner = len(corner_bead), len(template)
+    starts = path.yarn_vertices[path.link_corners[:, 0, 0], path.link_corners[:, 0, 1]]
+    inner = (starts - start)[:, None, :] + template[None, :, :]
+    first_new = len(yarns.positions)
+    inner_id = first_new + np.arange(n_links)[:, None] * n_inner + np.arange(n_inner)
+    new_positions, new_lengths = [inner.reshape(-1, 3)], [np.tile(lengths[:-1], n_links)]
+    if sliding:
+        n_ring = max(6, round(2.0 * np.pi * d / spacing))
+        centres = starts + path.link_vector - [0.0, 0.0, d]
+        rings = slip_rings(centres, d, n_ring)
+        ring_id = first_new + inner.size // 3 + np.arange(n_links)[:, None] * n_ring
+        ring_id = ring_id + np.arange(n_ring)
+        end_bead = ring_id[:, :1]
+        ring_bonds = np.stack([ring_id, np.roll(ring_id, -1, axis=1)], axis=-1).reshape(-1, 2)
+        chord = float(2.0 * d * np.sin(np.pi / n_ring))
+        new_positions.append(rings.reshape(-1, 3))
+        new_lengths.append(np.full(ring_id.size, chord))
+    else:
+        end_bead, ring_bonds, chord = corner_bead[:, 1:], np.zeros((0, 2), dtype=np.int64), 0.0
+    chain = np.hstack([corner_bead[:, :1], inner_id, end_bead])
+    link_bonds = np.stack([chain[:, :-1], chain[:, 1:]], axis=-1).reshape(-1, 2)
+    offset = len(yarns.bond_types)
+    link_types, link_type = rest_length_types(
+        np.tile(lengths, n_links), "stitch", axial, lambda j, i: f"stitch_link_{offset + j}"
     )
-    n_new = n_links * n_inner
+    ring_types = ()
+    if sliding:
+        n_types = offset + len(link_types)
+        ring_types = (
+            BondType(f"stitch_ring_{n_types}", "stitch", axial / (2 * chord), chord, axial),
+        )
+    positions = np.vstack(new_positions)
+    bead_volume = np.pi * d**3 / 6.0
     return replace(
         yarns,
-        positions=np.vstack([yarns.positions, _wrapped(inner, cell).reshape(-1, 3)]),
-        type_id=np.concatenate([yarns.type_id, np.zeros(n_new, dtype=np.int64)]),
+        positions=np.vstack([yarns.positions, _wrapped(positions, cell)]),
+        type_id=np.concatenate([yarns.type_id, np.zeros(len(positions), dtype=np.int64)]),
         density=np.concatenate(
-            [yarns.density, np.full(n_new, linear_density * bond_length / (np.pi * d**3 / 6.0))]
+            [yarns.density, linear_density * np.concatenate(new_lengths) / bead_volume]
         ),
-        mol_id=np.concatenate([yarns.mol_id, yarns.n_chains + np.arange(n_new)]),
-        bonds=np.vstack([yarns.bonds, bonds]),
+        mol_id=np.concatenate([yarns.mol_id, yarns.n_chains + np.arange(len(positions))]),
+        bonds=np.vstack([yarns.bonds, link_bonds, ring_bonds]),
         bond_type=np.concatenate(
-            [yarns.bond_type, np.full(len(bonds), len(yarns.bond_types), dtype=np.int64)]
+            [
+                yarns.bond_type,
+                offset + link_type,
+                np.full(len(ring_bonds), offset + len(link_types), dtype=np.int64),
+            ]
         ),
-        bond_types=(*yarns.bond_types, link_type),
+        bond_types=(*yarns.bond_types, *link_types, *ring_types),
     )

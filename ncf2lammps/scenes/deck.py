@@ -57,17 +57,23 @@ def neighbor_skin(spec: FabricSpec, model: Model) -> float:
 
 
 def friction_pairs(spec: FabricSpec, model: Model) -> list[tuple[int, int, float]]:
-    """(fibre type, stitch type, mu) 1-based, for a fibre-stitch friction of its own
+    """(type, stitch type, mu) 1-based, for a fibre-stitch friction of its own
     (``contact.fibre_stitch_friction``) or law of its own (the bundle law's rigid stitch
-    contacts); empty when every pair shares the contact law and ``contact.friction``."""
+    contacts); empty when every pair shares the contact law and ``contact.friction``. A
+    sliding interlock's rings hold on their yarn by stitch-stitch contact: under the bundle law
+    that pair takes the rigid stitch law too, with ``contact.friction``."""
     mu = spec.contact.fibre_stitch_friction
     stitch = [i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch"]
-    if mu is None and spec.contact.normal_model == "bundle":
+    bundle = spec.contact.normal_model == "bundle"
+    if mu is None and bundle:
         mu = spec.contact.friction  # the pairs of the rigid fibre-stitch law
     if mu is None or not stitch:
         return []
     fibre = [i + 1 for i, t in enumerate(model.atom_types) if t.role == "fibre"]
-    return [(i, stitch[0], float(mu)) for i in fibre]
+    pairs = [(i, stitch[0], float(mu)) for i in fibre]
+    if bundle and spec.stitch.interlock == "sliding":
+        pairs.append((stitch[0], stitch[0], float(spec.contact.friction)))
+    return pairs
 
 
 def base_context(

@@ -185,7 +185,7 @@ def deck_values(run: Prepared) -> dict:
         "ramp_steps": settings.max_ramp_steps,
         "stitch_bond_types": stitch_bonds,
         "held_bond_types": held_bonds,
-        "pulled_spans": _pulled_spans(model, pulled) if held_bonds else None,
+        "pulled_spans": _pulled_spans(spec, model, pulled) if held_bonds else None,
         "stitch_rest_length": float(bond_r0[pulled[model.bond_type]].sum()),
         "control_every": CONTROL_EVERY,
         "control_time": settings.control_time_us,
@@ -201,9 +201,10 @@ def deck_values(run: Prepared) -> dict:
 
 
 def _pulled_bond_types(spec: FabricSpec, model: Model) -> np.ndarray:
-    """(T,) bool, the bond types the pretension shortens: every stitch type, or with
-    ``stitch.interlock = "held"`` the legs' and underlaps' (loops and links keep their length)."""
-    held = spec.stitch.interlock == "held"
+    """(T,) bool, the bond types the pretension shortens: every stitch type, or with an
+    interlock (``stitch.interlock``) the legs' and underlaps' (loops, links and rings keep
+    their length)."""
+    held = spec.stitch.interlock != "none"
     return np.array(
         [
             t.role == "stitch" and (not held or t.name.split("_")[1] in PULLED_KINDS)
@@ -213,7 +214,7 @@ def _pulled_bond_types(spec: FabricSpec, model: Model) -> np.ndarray:
     )
 
 
-def _pulled_spans(model: Model, pulled: np.ndarray) -> list[tuple[int, int]]:
+def _pulled_spans(spec: FabricSpec, model: Model, pulled: np.ndarray) -> list[tuple[int, int]]:
     """Runs ``(first, last)`` of 1-based bead ids on pulled bonds (``pulled``: (T,) bool per
     bond type): the group whose bonds the manufacture's tension averages, a bond counting when
     both its beads are in the group, so no held bond may join two of them."""
@@ -223,7 +224,7 @@ def _pulled_spans(model: Model, pulled: np.ndarray) -> list[tuple[int, int]]:
     if np.any(inside & ~on_pulled):
         raise SpecError(
             "stitch.interlock",
-            "held",
+            spec.stitch.interlock,
             "needs two bonds at least on every loop: a smaller stitch.diameter_um or"
             " discretisation.bead_spacing_ratio",
         )

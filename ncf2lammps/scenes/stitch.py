@@ -36,11 +36,14 @@ __all__ = [
     "collect",
     "deck_value",
     "hole_attrs",
+    "is_interlock",
     "ruptures",
     "stitch_holes",
     "stitch_yarns",
 ]
 
+#: Segment kinds of the interlock's bond types, not of a yarn's path (docs/stitch.md).
+INTERLOCK_KINDS = ("link", "ring")
 #: Steps between the checks of fix bond/break: a quasi-static bond stretches by far less than
 #: its break margin in this many steps.
 RUPTURE_EVERY = 10
@@ -53,6 +56,11 @@ REST_LENGTHS_FILE = "manufactured.stitch.lmp"
 #: their beads and midpoints (array attributes, well inside HDF5's 64 kB per attribute).
 LISTED_BREAKS = 12
 STORED_BREAKS = 1000
+
+
+def is_interlock(bond_type: BondType) -> bool:
+    """Whether a bond type is an interlooping link's or slip ring's (``stitch.interlock``)."""
+    return bond_type.role == "stitch" and bond_type.name.split("_")[1] in INTERLOCK_KINDS
 
 
 def rest_lengths_file(spec: FabricSpec) -> str | None:
@@ -108,11 +116,11 @@ def deck_value(run: Prepared, scene: str) -> dict | None:
     stitch_type = next(i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch")
     value = {"type": stitch_type, "bonds": len(model.bonds), "rupture": None}
     if ruptures(spec, scene):
-        # The interlooping links hold (docs/stitch.md): the yarn breaks in its own path.
+        # The interlock holds (docs/stitch.md): the yarn breaks in its own path.
         bonds = [
             (i + 1, t)
             for i, t in enumerate(model.bond_types)
-            if t.role == "stitch" and not t.name.startswith("stitch_link")
+            if t.role == "stitch" and not is_interlock(t)
         ]
         _check_pretension(spec, [t for _, t in bonds])
         yarns = stitch_yarns(model)
@@ -153,11 +161,11 @@ def _breaks(directory: Path, final_state: str) -> dict:
 
 def stitch_yarns(model: Model) -> list[np.ndarray]:
     """(K,) bead indices of each stitch yarn of ``model`` in path order: the model lays each
-    closed yarn's beads consecutively; the inner beads of interlooping links (bonded by links
-    only, laid after the yarns) are left out."""
-    link = np.array([t.name.startswith("stitch_link") for t in model.bond_types], dtype=bool)
+    closed yarn's beads consecutively; the beads of interlooping links and rings (bonded by
+    those only, laid after the yarns) are left out."""
+    interlock = np.array([is_interlock(t) for t in model.bond_types], dtype=bool)
     on_yarn = np.zeros(model.n_atoms, dtype=bool)
-    on_yarn[model.bonds[~link[model.bond_type]].ravel()] = True
+    on_yarn[model.bonds[~interlock[model.bond_type]].ravel()] = True
     beads = np.flatnonzero(model.role_mask("stitch") & on_yarn)
     return np.split(beads, np.flatnonzero(np.diff(model.mol_id[beads])) + 1)
 
