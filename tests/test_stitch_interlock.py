@@ -203,7 +203,7 @@ def test_a_loop_of_one_bond_is_refused():
         discretisation={"chain_diameter_um": 250.0, "bead_spacing_ratio": 1.0},
     )
     with pytest.raises(SpecError, match=r"stitch\.interlock.*two bonds"):
-        render_deck(prepare(spec), "manufacture")
+        build_model(spec)
 
 
 @pytest.mark.lammps

@@ -367,6 +367,15 @@ def _stitch_part(
     kind = path.kind[first.segment]
     # Held loops keep their length while legs and underlaps are pulled: never one type for both.
     loop = kind == SEGMENT_KINDS.index("loop")
+    loop_bonds = np.bincount(first.segment)[path.kind == SEGMENT_KINDS.index("loop")]
+    if stitch.interlock != "none" and loop_bonds.min() < 2:
+        raise SpecError(
+            "stitch.interlock",
+            stitch.interlock,
+            "needs two bonds at least on every loop (the manufacture's tension is read from the"
+            " pulled bonds' beads): a smaller stitch.diameter_um or"
+            " discretisation.bead_spacing_ratio",
+        )
     classes = [np.ones_like(loop)] if stitch.interlock == "none" else [loop, ~loop]
     types: tuple[BondType, ...] = ()
     bond_type = np.zeros(len(kind), dtype=np.int64)

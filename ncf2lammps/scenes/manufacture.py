@@ -43,7 +43,7 @@ from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, read_final
 from ..model import Model
 from ..numerics import Prepared
-from ..spec import FabricSpec, SpecError
+from ..spec import FabricSpec
 from .base import Scene
 from .stitch import hole_attrs, rest_lengths_file
 
@@ -185,7 +185,7 @@ def deck_values(run: Prepared) -> dict:
         "ramp_steps": settings.max_ramp_steps,
         "stitch_bond_types": stitch_bonds,
         "held_bond_types": held_bonds,
-        "pulled_spans": _pulled_spans(spec, model, pulled) if held_bonds else None,
+        "pulled_spans": _pulled_spans(model, pulled) if held_bonds else None,
         "stitch_rest_length": float(bond_r0[pulled[model.bond_type]].sum()),
         "control_every": CONTROL_EVERY,
         "control_time": settings.control_time_us,
@@ -214,20 +214,12 @@ def _pulled_bond_types(spec: FabricSpec, model: Model) -> np.ndarray:
     )
 
 
-def _pulled_spans(spec: FabricSpec, model: Model, pulled: np.ndarray) -> list[tuple[int, int]]:
+def _pulled_spans(model: Model, pulled: np.ndarray) -> list[tuple[int, int]]:
     """Runs ``(first, last)`` of 1-based bead ids on pulled bonds (``pulled``: (T,) bool per
     bond type): the group whose bonds the manufacture's tension averages, a bond counting when
-    both its beads are in the group, so no held bond may join two of them."""
-    on_pulled = pulled[model.bond_type]
-    beads = np.unique(model.bonds[on_pulled])
-    inside = np.isin(model.bonds, beads).all(axis=1)
-    if np.any(inside & ~on_pulled):
-        raise SpecError(
-            "stitch.interlock",
-            spec.stitch.interlock,
-            "needs two bonds at least on every loop: a smaller stitch.diameter_um or"
-            " discretisation.bead_spacing_ratio",
-        )
+    both its beads are in the group (the model gives every held loop two bonds at least, so
+    that none joins two of them)."""
+    beads = np.unique(model.bonds[pulled[model.bond_type]])
     breaks = np.flatnonzero(np.diff(beads) > 1)
     firsts, lasts = beads[np.r_[0, breaks + 1]], beads[np.r_[breaks, len(beads) - 1]]
     return [(int(a) + 1, int(b) + 1) for a, b in zip(firsts, lasts, strict=True)]
