@@ -10,10 +10,11 @@ import pytest
 from conftest import case_spec, tiny_spec
 
 from ncf2lammps import run
-from ncf2lammps.analysis.stitch import yarn_holes
+from ncf2lammps.analysis.stitch import bond_tensions, yarn_holes
 from ncf2lammps.geometry import SEGMENT_KINDS, stitch_path
 from ncf2lammps.io.datafile import read_data
 from ncf2lammps.io.results import read_results
+from ncf2lammps.model import Box
 from ncf2lammps.model.builder import build_model
 from ncf2lammps.numerics import prepare
 from ncf2lammps.scenes import render_deck
@@ -217,7 +218,7 @@ def test_held_loops_keep_their_length_while_the_legs_and_underlaps_pull(tmp_path
     its radius d of a yarn bead (a ring slipped off would lie d or more away)."""
     spec = tiny_spec(stitch={"interlock": interlock})
     folder = tmp_path / "run"
-    run(spec, folder, scenes=["manufacture"])
+    attrs = read_results(run(spec, folder, scenes=["manufacture"]))["manufacture"]["attrs"]
     model = prepare(spec).model
     data = read_data(folder / "manufactured.data")
     kinds = _kinds(model)
@@ -239,6 +240,9 @@ def test_held_loops_keep_their_length_while_the_legs_and_underlaps_pull(tmp_path
     target = spec.manufacture.stitch_tension_N
     assert tension[on_pulled].mean() == pytest.approx(target, rel=0.05)
     assert tension[np.isin(kind, ("loop", "link"))].mean() > 0.0
+    for name in set(kinds) - {""}:  # the recorded means per kind are these (1e-9)
+        recorded = attrs[f"stitch_tension_{name}_N"]
+        assert recorded == pytest.approx(tension[kind == name].mean(), rel=1e-9)
     if interlock == "sliding":
         rings = np.unique(data.bonds[kind == "ring"]).reshape(len(model.needle_points) // 2, -1)
         yarns = np.concatenate(stitch_yarns(model))
@@ -286,3 +290,17 @@ def test_a_weak_held_stitch_breaks_in_its_yarn_and_stays_stable(tmp_path):
     before = read_data(folder / "manufactured.data")
     after = read_data(sorted(folder.glob("shear_*deg.data"))[-1])
     assert len(before.bonds) - len(after.bonds) == broken
+
+
+def test_bond_tensions_read_through_a_tilted_periodic_box():
+    # a bond of rest length 10 um stretched to 12 um across the y boundary of a box tilted by
+    # xy = 30 um reads 2 K (12 - 10) = 4 K; one compressed to 8 um reads -4 K (exact to 1e-12)
+    box = Box(np.zeros(3), np.array([100.0, 50.0, 20.0]), np.array([30.0, 0.0, 0.0]))
+    start = np.array([[20.0, 49.0, 5.0], [60.0, 20.0, 5.0]])
+    # 12 um along y from the first bead crosses y = 50: its image sits at y = 11 (x - 30)
+    end = np.array([[20.0 - 30.0 + 100.0, 11.0, 5.0], [68.0, 20.0, 5.0]])
+    positions = np.vstack([start, end])
+    tension = bond_tensions(
+        positions, box, np.array([[0, 2], [1, 3]]), np.full(2, 3.0), np.full(2, 10.0)
+    )
+    np.testing.assert_allclose(tension, [12.0, -12.0], atol=1e-12)

@@ -18,6 +18,7 @@ from ..model import Box
 __all__ = [
     "YarnHoles",
     "bond_midpoints",
+    "bond_tensions",
     "broken_bonds",
     "first_break",
     "hole_alignment",
@@ -53,6 +54,17 @@ def bond_midpoints(positions: np.ndarray, bonds: np.ndarray, lo: np.ndarray, len
     middle = start + 0.5 * delta
     middle[:, :2] = lo[:2] + np.mod(middle[:, :2] - lo[:2], lengths[:2])
     return middle
+
+
+def bond_tensions(
+    positions: np.ndarray, box: Box, bonds: np.ndarray, k: np.ndarray, r0: np.ndarray
+) -> np.ndarray:
+    """(B,) tensions ``2 K (r - r0)`` (nN; negative in compression) of the (B, 2) harmonic
+    ``bonds`` between the (N, 3) ``positions`` (um) in ``box`` (periodic in x and y, any tilt),
+    with per-bond ``k`` (nN/um) and rest length ``r0`` (um), (B,) each."""
+    delta = box.fractional(positions[bonds[:, 1]]) - box.fractional(positions[bonds[:, 0]])
+    delta[:, :2] -= np.rint(delta[:, :2])
+    return 2.0 * k * (np.linalg.norm(delta @ box.matrix.T, axis=1) - r0)
 
 
 def first_break(abscissa: np.ndarray, broken: np.ndarray) -> float:

@@ -45,7 +45,7 @@ from ..model import Model
 from ..numerics import Prepared
 from ..spec import FabricSpec
 from .base import Scene
-from .stitch import hole_attrs, rest_lengths_file
+from .stitch import hole_attrs, rest_lengths_file, tension_attrs
 
 __all__ = ["SCENE", "ManufactureError", "needle_axes"]
 
@@ -429,6 +429,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         ),
         **(json.loads(checks.read_text()) if checks.is_file() else {}),
         **hole_attrs(run.model, None, directory / "manufactured.data"),
+        **tension_attrs(directory / "manufactured.data"),
     }
     datasets = {
         "time_us": history["v_time"],

@@ -229,8 +229,10 @@ def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
     stitch_attrs, stitch_datasets = stitch.collect(
         run, directory, name, stress["TimeStep"], ("angle_deg", np.degrees), final_state
     )
-    attrs |= stitch_attrs | stitch.hole_attrs(
-        model, directory / "manufactured.data", directory / final_state
+    attrs |= (
+        stitch_attrs
+        | stitch.hole_attrs(model, directory / "manufactured.data", directory / final_state)
+        | stitch.tension_attrs(directory / final_state)
     )
     datasets = {
         **stitch_datasets,

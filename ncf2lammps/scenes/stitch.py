@@ -17,6 +17,7 @@ from .. import units
 from ..analysis.stitch import (
     YarnHoles,
     bond_midpoints,
+    bond_tensions,
     broken_bonds,
     first_break,
     hole_slip,
@@ -40,6 +41,7 @@ __all__ = [
     "ruptures",
     "stitch_holes",
     "stitch_yarns",
+    "tension_attrs",
 ]
 
 #: Segment kinds of the interlock's bond types, not of a yarn's path (docs/stitch.md).
@@ -204,6 +206,26 @@ def hole_attrs(model: Model, reference: str | Path | None, state: str | Path) ->
     return {
         "stitch_shog_width_ratio": shog_width_ratio(generated, current),
         "stitch_hole_slip_mm": units.from_micro(slip, "mm"),
+    }
+
+
+def tension_attrs(state: str | Path) -> dict:
+    """``stitch_tension_<kind>_N``: the mean tension (N) of the stitch bonds of each segment
+    kind (leg, loop, underlap; link, ring with an interlock) in the state file ``state``, with
+    the rest lengths it holds (after the pretension). Empty without the file or a stitch."""
+    if not Path(state).is_file():
+        return {}
+    data = read_data(state)
+    kinds = np.array(
+        [label.split("_")[1] if label.startswith("stitch_") else "" for label in data.bond_labels]
+    )
+    k, r0 = data.bond_coeffs[data.bond_type].T
+    tension = units.from_micro(bond_tensions(data.positions, data.box, data.bonds, k, r0), "N")
+    kind = kinds[data.bond_type]
+    return {
+        f"stitch_tension_{name}_N": float(tension[kind == name].mean())
+        for name in sorted(set(kinds) - {""})
+        if np.any(kind == name)
     }
 
 
