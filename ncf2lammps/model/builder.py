@@ -449,37 +449,34 @@ def _with_links(
         lengths = [0.5 * lengths[0]] * 2
     n_links, n_inner = len(corner_bead), len(template)
     starts = path.yarn_vertices[path.link_corners[:, 0, 0], path.link_corners[:, 0, 1]]
-    inner = (starts - start)[:, None, :] + template[None, :, :]
-    first_new = len(yarns.positions)
-    inner_id = first_new + np.arange(n_links)[:, None] * n_inner + np.arange(n_inner)
-    new_positions, new_lengths = [inner.reshape(-1, 3)], [np.tile(lengths[:-1], n_links)]
-    if sliding:
-        n_ring = max(6, round(2.0 * np.pi * d / spacing))
-        centres = starts + path.link_vector - [0.0, 0.0, d]
-        rings = slip_rings(centres, d, n_ring)
-        ring_id = first_new + inner.size // 3 + np.arange(n_links)[:, None] * n_ring
-        ring_id = ring_id + np.arange(n_ring)
-        end_bead = ring_id[:, :1]
-        ring_bonds = np.stack([ring_id, np.roll(ring_id, -1, axis=1)], axis=-1).reshape(-1, 2)
-        chord = float(2.0 * d * np.sin(np.pi / n_ring))
-        new_positions.append(rings.reshape(-1, 3))
-        new_lengths.append(np.full(ring_id.size, chord))
-    else:
-        end_bead, ring_bonds, chord = corner_bead[:, 1:], np.zeros((0, 2), dtype=np.int64), 0.0
-    chain = np.hstack([corner_bead[:, :1], inner_id, end_bead])
-    link_bonds = np.stack([chain[:, :-1], chain[:, 1:]], axis=-1).reshape(-1, 2)
+    inner = ((starts - start)[:, None, :] + template[None, :, :]).reshape(-1, 3)
+    inner_id = len(yarns.positions) + np.arange(n_links * n_inner).reshape(n_links, n_inner)
     offset = len(yarns.bond_types)
     link_types, link_type = rest_length_types(
         np.tile(lengths, n_links), "stitch", axial, lambda j, i: f"stitch_link_{offset + j}"
     )
-    ring_types = ()
+    new_positions, new_lengths = [inner], [np.tile(lengths[:-1], n_links)]
+    new_bond_types, ring_bonds, end_bead = (
+        link_types,
+        np.zeros((0, 2), np.int64),
+        corner_bead[:, 1:],
+    )
     if sliding:
-        n_types = offset + len(link_types)
-        ring_types = (
-            BondType(f"stitch_ring_{n_types}", "stitch", axial / (2 * chord), chord, axial),
-        )
+        n_ring = max(6, round(2.0 * np.pi * d / spacing))
+        ring_id = inner_id.max() + 1 + np.arange(n_links * n_ring).reshape(n_links, n_ring)
+        ring_bonds = np.stack([ring_id, np.roll(ring_id, -1, axis=1)], axis=-1).reshape(-1, 2)
+        chord = float(2.0 * d * np.sin(np.pi / n_ring))
+        name = f"stitch_ring_{offset + len(link_types)}"
+        new_bond_types += (BondType(name, "stitch", axial / (2 * chord), chord, axial),)
+        centres = starts + path.link_vector - [0.0, 0.0, d]
+        new_positions.append(slip_rings(centres, d, n_ring).reshape(-1, 3))
+        new_lengths.append(np.full(ring_id.size, chord))
+        end_bead = ring_id[:, :1]
+    chain = np.hstack([corner_bead[:, :1], inner_id, end_bead])
+    link_bonds = np.stack([chain[:, :-1], chain[:, 1:]], axis=-1).reshape(-1, 2)
     positions = np.vstack(new_positions)
     bead_volume = np.pi * d**3 / 6.0
+    ring_type = np.full(len(ring_bonds), offset + len(link_types), dtype=np.int64)
     return replace(
         yarns,
         positions=np.vstack([yarns.positions, _wrapped(positions, cell)]),
@@ -489,12 +486,6 @@ def _with_links(
         ),
         mol_id=np.concatenate([yarns.mol_id, yarns.n_chains + np.arange(len(positions))]),
         bonds=np.vstack([yarns.bonds, link_bonds, ring_bonds]),
-        bond_type=np.concatenate(
-            [
-                yarns.bond_type,
-                offset + link_type,
-                np.full(len(ring_bonds), offset + len(link_types), dtype=np.int64),
-            ]
-        ),
-        bond_types=(*yarns.bond_types, *link_types, *ring_types),
+        bond_type=np.concatenate([yarns.bond_type, offset + link_type, ring_type]),
+        bond_types=(*yarns.bond_types, *new_bond_types),
     )
