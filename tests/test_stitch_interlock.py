@@ -18,7 +18,7 @@ from ncf2lammps.model import Box
 from ncf2lammps.model.builder import build_model
 from ncf2lammps.numerics import prepare
 from ncf2lammps.scenes import render_deck
-from ncf2lammps.scenes.stitch import stitch_yarns
+from ncf2lammps.scenes.stitch import segment_kind, stitch_yarns
 from ncf2lammps.spec import SpecError
 
 GAUGE, STITCH_LENGTH = 5080.0, 2800.0
@@ -27,7 +27,7 @@ LAPPINGS = {"tricot-chain": ((1, 0), (0, 1), (1, 2), (2, 1)), "chain": ((0, 1), 
 
 def _kinds(model) -> list[str]:
     """The segment kind of each bond type (``""`` for fibre types)."""
-    return [t.name.split("_")[1] if t.role == "stitch" else "" for t in model.bond_types]
+    return [segment_kind(t.name) for t in model.bond_types]
 
 
 @pytest.mark.parametrize("wales", [1, 2, 3])
@@ -304,7 +304,7 @@ def test_a_weak_stitch_breaks_in_its_yarn_and_stays_stable(interlocked):
     after = read_data(folder / "shear_2deg.data")
     gone = broken_bonds(before.bonds, after.bonds, len(before.positions))
     assert len(gone) == broken
-    kinds = {before.bond_labels[t].split("_")[1] for t in before.bond_type[gone]}
+    kinds = {segment_kind(before.bond_labels[t]) for t in before.bond_type[gone]}
     assert kinds <= {"leg", "loop", "underlap"}
 
 

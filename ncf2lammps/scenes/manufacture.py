@@ -45,7 +45,7 @@ from ..model import Model
 from ..numerics import Prepared
 from ..spec import FabricSpec
 from .base import Scene
-from .stitch import hole_attrs, rest_lengths_file, tension_attrs
+from .stitch import hole_attrs, rest_lengths_file, segment_kind, tension_attrs
 
 __all__ = ["SCENE", "ManufactureError", "needle_axes"]
 
@@ -207,7 +207,7 @@ def _pulled_bond_types(spec: FabricSpec, model: Model) -> np.ndarray:
     held = spec.stitch.interlock != "none"
     return np.array(
         [
-            t.role == "stitch" and (not held or t.name.split("_")[1] in PULLED_KINDS)
+            t.role == "stitch" and (not held or segment_kind(t.name) in PULLED_KINDS)
             for t in model.bond_types
         ],
         dtype=bool,

@@ -39,6 +39,7 @@ __all__ = [
     "hole_attrs",
     "is_interlock",
     "ruptures",
+    "segment_kind",
     "stitch_holes",
     "stitch_yarns",
     "tension_attrs",
@@ -60,9 +61,15 @@ LISTED_BREAKS = 12
 STORED_BREAKS = 1000
 
 
+def segment_kind(label: str) -> str:
+    """The segment kind (leg, loop, underlap, link, ring) of a stitch bond type's name or data
+    file label, ``stitch_<kind>_<j>``; ``""`` for any other bond type."""
+    return label.split("_")[1] if label.startswith("stitch_") else ""
+
+
 def is_interlock(bond_type: BondType) -> bool:
     """Whether a bond type is an interlooping link's or slip ring's (``stitch.interlock``)."""
-    return bond_type.role == "stitch" and bond_type.name.split("_")[1] in INTERLOCK_KINDS
+    return segment_kind(bond_type.name) in INTERLOCK_KINDS
 
 
 def rest_lengths_file(spec: FabricSpec) -> str | None:
@@ -148,7 +155,7 @@ def _breaks(directory: Path, final_state: str) -> dict:
     pairs = before.bonds[gone]
     box = before.box
     middle = units.from_micro(bond_midpoints(before.positions, pairs, box.lo, box.lengths), "mm")
-    kinds = [before.bond_labels[t].split("_")[1] for t in before.bond_type[gone]]
+    kinds = [segment_kind(before.bond_labels[t]) for t in before.bond_type[gone]]
     listed = [
         f"{kind} at ({x:.3f}, {y:.3f}, {z:.3f}) mm"
         for kind, (x, y, z) in zip(kinds[:LISTED_BREAKS], middle, strict=False)
@@ -216,16 +223,12 @@ def tension_attrs(state: str | Path) -> dict:
     if not Path(state).is_file():
         return {}
     data = read_data(state)
-    kinds = np.array(
-        [label.split("_")[1] if label.startswith("stitch_") else "" for label in data.bond_labels]
-    )
+    kind = np.array([segment_kind(label) for label in data.bond_labels])[data.bond_type]
     k, r0 = data.bond_coeffs[data.bond_type].T
     tension = units.from_micro(bond_tensions(data.positions, data.box, data.bonds, k, r0), "N")
-    kind = kinds[data.bond_type]
     return {
         f"stitch_tension_{name}_N": float(tension[kind == name].mean())
-        for name in sorted(set(kinds) - {""})
-        if np.any(kind == name)
+        for name in sorted(set(kind) - {""})
     }
 
 
