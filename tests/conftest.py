@@ -62,6 +62,7 @@ FIRST_FILES = (
     "tests/validation/test_validation_cases.py",
     "tests/test_cli.py",
     "tests/test_stitch_rupture.py",
+    "tests/test_stitch_interlock.py",
     "tests/test_io_engine.py",
     "tests/test_golden_decks.py",
     "tests/test_doors.py",
