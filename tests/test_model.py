@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import assert_model_invariants, tiny_spec
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from ncf2lammps import build_model
@@ -129,3 +129,51 @@ def test_random_valid_specs_keep_invariants(spec):
         )
         return
     assert_invariants(spec, model)
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    st.lists(st.floats(-400.0, 400.0), min_size=6, max_size=15).filter(lambda v: len(v) % 3 == 0),
+    st.floats(3.0, 60.0),
+    st.integers(1, 3),
+)
+def test_open_polyline_keeps_its_vertices_and_even_bonds(coords, spacing, min_bonds):
+    """Every vertex is a bead, the ends are exact, each segment's bonds are equal and sum to the
+    segment (1e-9 um), and no segment has fewer than ``min_bonds`` bonds."""
+    from ncf2lammps.geometry import sample_open_polyline
+
+    vertices = np.cumsum(np.reshape(coords, (-1, 3)), axis=0)
+    assume(np.linalg.norm(np.diff(vertices, axis=0), axis=1).min() > 1.0)
+    beads, lengths = sample_open_polyline(vertices, spacing, min_bonds)
+    steps = np.linalg.norm(np.diff(beads, axis=0), axis=1)
+    np.testing.assert_allclose(steps, lengths, atol=1e-9)
+    np.testing.assert_array_equal(beads[[0, -1]], vertices[[0, -1]])
+    at_vertex = [np.linalg.norm(beads - v, axis=1).min() for v in vertices]
+    assert max(at_vertex) < 1e-9
+    segments = np.linalg.norm(np.diff(vertices, axis=0), axis=1)
+    assert len(lengths) >= min_bonds * len(segments)
+    assert abs(lengths.sum() - segments.sum()) < 1e-9 * max(1.0, segments.sum())
+
+
+def test_minimum_image_is_the_nearest_periodic_copy():
+    """In a tilted box periodic in x and y, the minimum image of a difference differs from it by
+    whole in-plane edge vectors, has in-plane fractional coordinates in [-1/2, 1/2], and for a
+    difference shorter than half the cell's narrowest height is its nearest copy (brute force
+    over -5..5 images; 1e-9 um)."""
+    from ncf2lammps.model.core import Box
+
+    box = Box(np.zeros(3), np.array([50.0, 80.0, 30.0]), np.array([25.0, 4.0, 2.0]))
+    rng = np.random.default_rng(7)
+    delta = rng.uniform(-150.0, 150.0, size=(400, 3))
+    image = box.minimum_image(delta)
+    shift = np.linalg.solve(box.matrix, (image - delta).T).T
+    np.testing.assert_allclose(shift, np.rint(shift), atol=1e-9)
+    np.testing.assert_allclose(shift[:, 2], 0.0, atol=1e-9)
+    assert np.abs(box.fractional(image + box.lo)[:, :2]).max() <= 0.5 + 1e-12
+    height = min(box.lengths[1], box.lengths[0] * box.lengths[1] / np.hypot(*box.matrix[:2, 1]))
+    short = delta[np.linalg.norm(image[:, :2], axis=1) < 0.5 * height]
+    shifts = np.array([[i, j, 0] for i in range(-5, 6) for j in range(-5, 6)]) @ box.matrix.T
+    copies = short[:, None, :] + shifts[None, :, :]
+    nearest = copies[np.arange(len(short)), np.linalg.norm(copies, axis=2).argmin(axis=1)]
+    assert len(short) > 20
+    np.testing.assert_allclose(box.minimum_image(short), nearest, atol=1e-9)

@@ -75,17 +75,15 @@ def _link_chains(model) -> np.ndarray:
 def _distances(model, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """(len(a), len(b)) minimum-image distances between beads ``a`` and ``b`` (um)."""
     delta = model.positions[a][:, None, :] - model.positions[b][None, :, :]
-    lengths = model.box.lengths[:2]
-    delta[..., :2] -= np.rint(delta[..., :2] / lengths) * lengths
-    return np.linalg.norm(delta, axis=-1)
+    return np.linalg.norm(model.box.minimum_image(delta.reshape(-1, 3)), axis=1).reshape(
+        len(a), len(b)
+    )
 
 
 def _unwrapped_steps(model, chains: np.ndarray) -> np.ndarray:
     """(L, n - 1, 3) minimum-image steps along each chain (um)."""
     step = np.diff(model.positions[chains], axis=1)
-    lengths = model.box.lengths[:2]
-    step[..., :2] -= np.rint(step[..., :2] / lengths) * lengths
-    return step
+    return model.box.minimum_image(step.reshape(-1, 3)).reshape(step.shape)
 
 
 def test_held_model_adds_straight_links_of_the_yarns_material(models):

@@ -62,9 +62,8 @@ def bond_tensions(
     """(B,) tensions ``2 K (r - r0)`` (nN; negative in compression) of the (B, 2) harmonic
     ``bonds`` between the (N, 3) ``positions`` (um) in ``box`` (periodic in x and y, any tilt),
     with per-bond ``k`` (nN/um) and rest length ``r0`` (um), (B,) each."""
-    delta = box.fractional(positions[bonds[:, 1]]) - box.fractional(positions[bonds[:, 0]])
-    delta[:, :2] -= np.rint(delta[:, :2])
-    return 2.0 * k * (np.linalg.norm(delta @ box.matrix.T, axis=1) - r0)
+    delta = box.minimum_image(positions[bonds[:, 1]] - positions[bonds[:, 0]])
+    return 2.0 * k * (np.linalg.norm(delta, axis=1) - r0)
 
 
 def first_break(abscissa: np.ndarray, broken: np.ndarray) -> float:

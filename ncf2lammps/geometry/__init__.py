@@ -1,6 +1,6 @@
 """Pure-numpy geometry: mat chains, stitch yarn paths, curve-to-bead sampling."""
 
-from .chains import BeadChain, sample_closed_polyline
+from .chains import BeadChain, sample_closed_polyline, sample_open_polyline
 from .mat import PlyLayout, ply_chains, ply_layout
 from .stitch import SEGMENT_KINDS, StitchPath, slip_rings, stitch_path
 
@@ -12,6 +12,7 @@ __all__ = [
     "ply_chains",
     "ply_layout",
     "sample_closed_polyline",
+    "sample_open_polyline",
     "slip_rings",
     "stitch_path",
 ]

@@ -1,7 +1,7 @@
 """Curves to bead chains (pure numpy).
 
-A chain is a closed polyline sampled by beads: every vertex carries a bead, and each segment is
-split into equal bonds close to the target spacing. Periodic straight chains are the special case
+A chain is a closed (or open) polyline sampled by beads: every vertex carries a bead, and each
+segment is split into equal bonds close to the target spacing. Periodic straight chains are the special case
 of one segment whose end is the start shifted by a box edge.
 """
 
@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["BeadChain", "sample_closed_polyline"]
+__all__ = ["BeadChain", "sample_closed_polyline", "sample_open_polyline"]
 
 
 @dataclass(frozen=True)
@@ -33,6 +33,31 @@ class BeadChain:
     length_per_bead: np.ndarray
 
 
+def _sample_segments(starts: np.ndarray, ends: np.ndarray, spacing: float, min_bonds: int):
+    """Beads at each segment's start and equal bonds along it.
+
+    Args:
+        starts, ends: (S, 3) float, segment end points (um).
+        spacing: target bond length (um); segment ``j`` gets
+            ``max(min_bonds, round(L_j / spacing))`` equal bonds.
+        min_bonds: the fewest bonds on a segment.
+
+    Returns:
+        positions (M, 3) float (bond starts, in order), segment (M,) int (segment of each bond),
+        bond_length (M,) float.
+    """
+    delta = ends - starts
+    seg_length = np.linalg.norm(delta, axis=1)
+    if np.any(seg_length <= 0.0):
+        raise ValueError("polyline has a zero-length segment")
+    n_bonds = np.maximum(min_bonds, np.rint(seg_length / spacing)).astype(np.int64)
+    segment = np.repeat(np.arange(len(starts)), n_bonds)
+    first_bond = np.concatenate([[0], np.cumsum(n_bonds)[:-1]])
+    fraction = (np.arange(n_bonds.sum()) - first_bond[segment]) / n_bonds[segment]
+    positions = starts[segment] + fraction[:, None] * delta[segment]
+    return positions, segment, (seg_length / n_bonds)[segment]
+
+
 def sample_closed_polyline(vertices: np.ndarray, closing_shift: np.ndarray, spacing: float):
     """Sample a closed polyline with beads at every vertex and equal bonds on each segment.
 
@@ -48,17 +73,26 @@ def sample_closed_polyline(vertices: np.ndarray, closing_shift: np.ndarray, spac
     """
     vertices = np.asarray(vertices, dtype=float)
     ends = np.vstack([vertices[1:], vertices[:1] + np.asarray(closing_shift, dtype=float)])
-    delta = ends - vertices
-    seg_length = np.linalg.norm(delta, axis=1)
-    if np.any(seg_length <= 0.0):
-        raise ValueError("polyline has a zero-length segment")
-    n_bonds = np.maximum(1, np.rint(seg_length / spacing)).astype(np.int64)
-    segment = np.repeat(np.arange(len(vertices)), n_bonds)
-    first_bond = np.concatenate([[0], np.cumsum(n_bonds)[:-1]])
-    fraction = (np.arange(n_bonds.sum()) - first_bond[segment]) / n_bonds[segment]
-    positions = vertices[segment] + fraction[:, None] * delta[segment]
+    positions, segment, bond_length = _sample_segments(vertices, ends, spacing, 1)
     n = len(positions)
     bonds = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])
-    bond_length = (seg_length / n_bonds)[segment]
     length_per_bead = 0.5 * (bond_length + np.roll(bond_length, 1))
     return BeadChain(positions, bonds, bond_length, segment, length_per_bead)
+
+
+def sample_open_polyline(vertices: np.ndarray, spacing: float, min_bonds: int = 1):
+    """Sample an open polyline with beads at every vertex and equal bonds on each segment.
+
+    Args:
+        vertices: (V, 3) float, polyline vertices in order (um), V >= 2.
+        spacing: target bond length (um); segment ``j`` gets
+            ``max(min_bonds, round(L_j / spacing))`` equal bonds.
+        min_bonds: the fewest bonds on a segment (2 puts a bead inside every segment).
+
+    Returns:
+        positions (M + 1, 3) float, the beads from ``vertices[0]`` to ``vertices[-1]``, and
+        bond_length (M,) float, the length of the bond after each bead but the last.
+    """
+    vertices = np.asarray(vertices, dtype=float)
+    positions, _, bond_length = _sample_segments(vertices[:-1], vertices[1:], spacing, min_bonds)
+    return np.vstack([positions, vertices[-1:]]), bond_length

@@ -6,7 +6,6 @@ positions are wrapped into the cell in x and y; :func:`~.parts.join` assembles t
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -19,6 +18,7 @@ from ..geometry import (
     ply_chains,
     ply_layout,
     sample_closed_polyline,
+    sample_open_polyline,
     slip_rings,
     stitch_path,
 )
@@ -438,15 +438,9 @@ def _with_links(
     start = path.yarn_vertices[path.link_corners[0, 0, 0], path.link_corners[0, 0, 1]]
     end = start + path.link_vector
     waypoints = [start, end - [d, 0.0, 0.0], end - [d, 0.0, d]] if sliding else [start, end]
-    points, lengths = [], []
-    for a, b in itertools.pairwise(waypoints):
-        n = max(1, round(float(np.linalg.norm(b - a)) / spacing))
-        points.append(a + np.arange(1, n + 1)[:, None] / n * (b - a))
-        lengths += [float(np.linalg.norm(b - a)) / n] * n
-    template = np.vstack(points)[:-1]  # the inner beads; the last point is the end bead
-    if not sliding and len(template) == 0:
-        template = start + 0.5 * path.link_vector[None, :]  # one inner bead: it meets the bed
-        lengths = [0.5 * lengths[0]] * 2
+    # a held link keeps one inner bead at least: a lone bond would cross the bed unseen
+    beads, lengths = sample_open_polyline(np.array(waypoints), spacing, 1 if sliding else 2)
+    template = beads[1:-1]
     n_links, n_inner = len(corner_bead), len(template)
     starts = path.yarn_vertices[path.link_corners[:, 0, 0], path.link_corners[:, 0, 1]]
     inner = ((starts - start)[:, None, :] + template[None, :, :]).reshape(-1, 3)

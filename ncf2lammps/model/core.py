@@ -86,6 +86,13 @@ class Box:
         """(N, 3) fractional coordinates ``h^-1 (x - lo)`` of the (N, 3) ``points`` (um)."""
         return np.linalg.solve(self.matrix, (np.asarray(points) - self.lo).T).T
 
+    def minimum_image(self, delta: np.ndarray) -> np.ndarray:
+        """(N, 3) nearest periodic images of the (N, 3) differences ``delta`` (um): the box is
+        periodic in x and y (any tilt), not in z."""
+        step = np.linalg.solve(self.matrix, np.asarray(delta, dtype=float).T).T
+        step[:, :2] -= np.rint(step[:, :2])
+        return step @ self.matrix.T
+
 
 def _frozen(array, dtype) -> np.ndarray:
     out = np.ascontiguousarray(array, dtype=dtype)
