@@ -26,6 +26,7 @@ from ncf2lammps.io.results import read_results
 from ncf2lammps.orchestration.report import write_report
 from ncf2lammps.scenes import SCENES
 from ncf2lammps.scenes.shear import DEFORM_EVERY, shear_rate
+from ncf2lammps.scenes.stitch import path_attrs
 from ncf2lammps.spec import SpecError, shear_recipe
 
 #: Test rate and final angle on the coarse case (deg/us, deg): I = 0.1, 4 x the default, to
@@ -117,6 +118,16 @@ def test_results_follow_the_contract(coarse_sheared):
     # the holes since manufacture: matched, within one gauge of where they were
     assert 0.0 <= group["attrs"]["stitch_hole_slip_mm"] < 5.08
     assert 0.0 < group["attrs"]["stitch_shog_width_ratio"] < 1.2
+    # the stitch's length since manufacture: the recorded strains are those of the state files
+    # (1e-12), and the affine one lies within the frame map's principal stretches
+    final = folder / "shear_25deg.data"
+    model = prepare(case_spec("hpt310-coarse")).model
+    recomputed = path_attrs(model, folder / "manufactured.data", final)
+    for key, value in recomputed.items():
+        assert group["attrs"][key] == pytest.approx(value, abs=1e-12)
+    g = np.radians(COARSE_TEST_ANGLE)
+    stretches = np.linalg.svd([[1.0, np.sin(g)], [0.0, np.cos(g)]], compute_uv=False)
+    assert stretches[1] - 1 <= recomputed["stitch_path_affine_strain"] <= stretches[0] - 1
     names = ("angle_deg", "force_N_per_m", "force_work_N_per_m", "kinetic_ratio", "work_J")
     assert len({len(group[k]) for k in names}) == 1 and len(group["angle_deg"]) > 100
     assert group["angle_deg"][-1] == pytest.approx(COARSE_TEST_ANGLE, abs=0.2)

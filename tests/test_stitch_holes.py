@@ -13,7 +13,7 @@ from ncf2lammps.analysis.stitch import yarn_holes
 from ncf2lammps.io.datafile import write_data
 from ncf2lammps.model import Box
 from ncf2lammps.model.builder import build_model
-from ncf2lammps.scenes.stitch import hole_attrs, stitch_yarns
+from ncf2lammps.scenes.stitch import hole_attrs, path_attrs, stitch_yarns
 
 
 def _state(model, positions, box, path):
@@ -62,6 +62,43 @@ def test_an_affine_shear_and_a_rigid_drift_move_no_hole(model, tmp_path):
     attrs = hole_attrs(model, None, state)
     assert attrs["stitch_shog_width_ratio"] == pytest.approx(1.0, rel=1e-9)
     assert attrs["stitch_hole_slip_mm"] < 1e-9
+
+
+def _stitch_length(model, positions, box) -> float:
+    """Total length (um) of the stitch bonds, each bond's shortest periodic copy found by trying
+    every in-plane image -2..2 (independent of Box.minimum_image)."""
+    bonds = model.bonds[model.role_mask("stitch")[model.bonds[:, 0]]]
+    delta = positions[bonds[:, 1]] - positions[bonds[:, 0]]
+    shifts = np.array([[i, j, 0] for i in range(-2, 3) for j in range(-2, 3)]) @ box.matrix.T
+    return np.linalg.norm(delta[:, None, :] + shifts[None], axis=2).min(axis=1).sum()
+
+
+def test_the_stitch_path_strain_against_the_frames_affine_map(model, tmp_path):
+    # Carried by the picture frame's map at 30 deg (edge a along x, edge b of constant length
+    # turned by 30 deg) the stitch lengthens exactly as the affine strain says; thickened about
+    # its mid-plane by 1.25 in the same box, the affine strain stays 0 and the actual strain is
+    # the length ratio of an independent sum over the bonds' nearest images (1e-9)
+    lo, (lx, ly, lz) = model.box.lo, model.box.lengths
+    g = np.radians(30.0)
+    frame = Box(lo, lo + np.array([lx, ly * np.cos(g), lz]), np.array([ly * np.sin(g), 0, 0]))
+    carried = (model.positions - lo) / np.array([lx, ly, lz]) @ frame.matrix.T + lo
+    reference = _state(model, model.positions, model.box, tmp_path / "m.data")
+    sheared = path_attrs(model, reference, _state(model, carried, frame, tmp_path / "s.data"))
+    expected = _stitch_length(model, carried, frame) / _stitch_length(
+        model, model.positions, model.box
+    )
+    assert sheared["stitch_path_strain"] == pytest.approx(expected - 1.0, abs=1e-9)
+    assert sheared["stitch_path_affine_strain"] == pytest.approx(expected - 1.0, abs=1e-9)
+    middle = 0.5 * (model.positions[:, 2].max() + model.positions[:, 2].min())
+    thick = np.array(model.positions)
+    thick[:, 2] = middle + 1.25 * (thick[:, 2] - middle)
+    thickened = path_attrs(model, reference, _state(model, thick, model.box, tmp_path / "t.data"))
+    expected = _stitch_length(model, thick, model.box) / _stitch_length(
+        model, model.positions, model.box
+    )
+    assert thickened["stitch_path_affine_strain"] == pytest.approx(0.0, abs=1e-12)
+    assert thickened["stitch_path_strain"] == pytest.approx(expected - 1.0, abs=1e-9)
+    assert thickened["stitch_path_strain"] > 0.01
 
 
 def test_underlaps_pulled_straight_narrow_by_the_pull(model, tmp_path):

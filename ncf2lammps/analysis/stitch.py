@@ -1,4 +1,5 @@
-"""The stitch yarn: where its bonds broke and when the first one did; where its holes lie.
+"""The stitch yarn: its tensions and length, where its bonds broke and when the first one did;
+where its holes lie.
 
 Holes (docs/stitch.md): a yarn runs on the loop face (top) and the underlap face (bottom) and
 passes through the mat at its needle holes; a hole is where the yarn's path crosses its
@@ -17,12 +18,14 @@ from ..model import Box
 
 __all__ = [
     "YarnHoles",
+    "bond_lengths",
     "bond_midpoints",
     "bond_tensions",
     "broken_bonds",
     "first_break",
     "hole_alignment",
     "hole_slip",
+    "path_strains",
     "shog_width_ratio",
     "yarn_holes",
 ]
@@ -56,14 +59,37 @@ def bond_midpoints(positions: np.ndarray, bonds: np.ndarray, lo: np.ndarray, len
     return middle
 
 
+def bond_lengths(positions: np.ndarray, box: Box, bonds: np.ndarray) -> np.ndarray:
+    """(B,) lengths (um) of the (B, 2) ``bonds`` between the (N, 3) ``positions`` (um) in
+    ``box`` (periodic in x and y, any tilt)."""
+    delta = box.minimum_image(positions[bonds[:, 1]] - positions[bonds[:, 0]])
+    return np.linalg.norm(delta, axis=1)
+
+
 def bond_tensions(
     positions: np.ndarray, box: Box, bonds: np.ndarray, k: np.ndarray, r0: np.ndarray
 ) -> np.ndarray:
     """(B,) tensions ``2 K (r - r0)`` (nN; negative in compression) of the (B, 2) harmonic
     ``bonds`` between the (N, 3) ``positions`` (um) in ``box`` (periodic in x and y, any tilt),
     with per-bond ``k`` (nN/um) and rest length ``r0`` (um), (B,) each."""
-    delta = box.minimum_image(positions[bonds[:, 1]] - positions[bonds[:, 0]])
-    return 2.0 * k * (np.linalg.norm(delta, axis=1) - r0)
+    return 2.0 * k * (bond_lengths(positions, box, bonds) - r0)
+
+
+def path_strains(
+    positions: tuple[np.ndarray, np.ndarray], boxes: tuple[Box, Box], bonds: np.ndarray
+) -> tuple[float, float]:
+    """(actual, affine): the relative change in total length of the (B, 2) ``bonds`` from the
+    first state to the second (``positions`` (N, 3) um and ``boxes`` of each), and the change
+    the boxes' in-plane deformation alone would give, every bond vector of the first state
+    mapped by ``F = h1 h0^-1`` in x and y with z unchanged."""
+    (before, after), (box0, box1) = positions, boxes
+    vectors = box0.minimum_image(before[bonds[:, 1]] - before[bonds[:, 0]])
+    deform = np.eye(3)
+    deform[:2, :2] = box1.matrix[:2, :2] @ np.linalg.inv(box0.matrix[:2, :2])
+    length = np.linalg.norm(vectors, axis=1).sum()
+    actual = bond_lengths(after, box1, bonds).sum() / length - 1.0
+    affine = np.linalg.norm(vectors @ deform.T, axis=1).sum() / length - 1.0
+    return float(actual), float(affine)
 
 
 def first_break(abscissa: np.ndarray, broken: np.ndarray) -> float:

@@ -232,6 +232,7 @@ def collect(run: Prepared, directory: Path, sense: str) -> tuple[dict, dict]:
     attrs |= (
         stitch_attrs
         | stitch.hole_attrs(model, directory / "manufactured.data", directory / final_state)
+        | stitch.path_attrs(model, directory / "manufactured.data", directory / final_state)
         | stitch.tension_attrs(directory / final_state)
     )
     datasets = {

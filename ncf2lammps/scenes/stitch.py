@@ -21,6 +21,7 @@ from ..analysis.stitch import (
     broken_bonds,
     first_break,
     hole_slip,
+    path_strains,
     shog_width_ratio,
     yarn_holes,
 )
@@ -38,6 +39,7 @@ __all__ = [
     "deck_value",
     "hole_attrs",
     "is_interlock",
+    "path_attrs",
     "ruptures",
     "segment_kind",
     "stitch_holes",
@@ -184,23 +186,31 @@ def stitch_holes(model: Model, positions: np.ndarray, box: Box) -> list[YarnHole
     return [yarn_holes(positions, box, yarn) for yarn in stitch_yarns(model)]
 
 
+def _model_states(model: Model, reference: str | Path | None, state: str | Path):
+    """[(positions (N, 3) um, box)] of ``reference`` (a state file; None: the generated model)
+    and ``state``, the model's beads only (the first ``model.n_atoms`` of a state: atoms a
+    hand-edited deck adds come after them); None without a stitch, without the state files or
+    with a state of fewer beads than the model."""
+    files = [Path(f) for f in (reference, state) if f is not None]
+    if not model.role_mask("stitch").any() or not all(f.is_file() for f in files):
+        return None
+    states = [read_data(f) for f in files]
+    if min(len(s.positions) for s in states) < model.n_atoms:
+        return None
+    pairs = [(s.positions[: model.n_atoms], s.box) for s in states]
+    if reference is None:
+        pairs.insert(0, (model.positions, model.box))
+    return pairs
+
+
 def hole_attrs(model: Model, reference: str | Path | None, state: str | Path) -> dict:
     """Where the stitch's holes lie in the state file ``state`` (docs/stitch.md):
     ``stitch_shog_width_ratio``, the width of the underlaps across the wales against the
     generated lapping, and ``stitch_hole_slip_mm``, the RMS in-plane distance the holes moved
     through the mat since ``reference`` (a state file; None: the generated model), less the
-    fibres' rigid drift. The model's beads are the first ``model.n_atoms`` of a state (atoms a
-    hand-edited deck adds come after them). Empty without a stitch, without the state files or
-    with a state of fewer beads than the model."""
-    files = [Path(f) for f in (reference, state) if f is not None]
-    if not model.role_mask("stitch").any() or not all(f.is_file() for f in files):
+    fibres' rigid drift. Empty where :func:`_model_states` finds no states."""
+    if (pairs := _model_states(model, reference, state)) is None:
         return {}
-    states = [read_data(f) for f in files]
-    if min(len(s.positions) for s in states) < model.n_atoms:
-        return {}
-    pairs = [(s.positions[: model.n_atoms], s.box) for s in states]
-    if reference is None:
-        pairs.insert(0, (model.positions, model.box))
     (since_positions, since_box), (positions, box) = pairs
     generated = stitch_holes(model, model.positions, model.box)
     since = generated if reference is None else stitch_holes(model, since_positions, since_box)
@@ -214,6 +224,21 @@ def hole_attrs(model: Model, reference: str | Path | None, state: str | Path) ->
         "stitch_shog_width_ratio": shog_width_ratio(generated, current),
         "stitch_hole_slip_mm": units.from_micro(slip, "mm"),
     }
+
+
+def path_attrs(model: Model, reference: str | Path, state: str | Path) -> dict:
+    """How much longer the stitch is in the state file ``state`` than in ``reference``
+    (docs/stitch.md): ``stitch_path_strain``, the relative change of the total length of
+    every stitch bond, and ``stitch_path_affine_strain``, the change the box's in-plane
+    deformation alone would give (each bond carried by the cell's affine map, its z kept). Their
+    difference is what the cell's own motion (thickening, tows rolling) asks of the yarn. Empty
+    where :func:`_model_states` finds no states."""
+    if (pairs := _model_states(model, reference, state)) is None:
+        return {}
+    (before, box0), (after, box1) = pairs
+    stitch_bonds = model.bonds[model.role_mask("stitch")[model.bonds[:, 0]]]
+    actual, affine = path_strains((before, after), (box0, box1), stitch_bonds)
+    return {"stitch_path_strain": actual, "stitch_path_affine_strain": affine}
 
 
 def tension_attrs(state: str | Path) -> dict:
