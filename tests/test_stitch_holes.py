@@ -64,10 +64,11 @@ def test_an_affine_shear_and_a_rigid_drift_move_no_hole(model, tmp_path):
     assert attrs["stitch_hole_slip_mm"] < 1e-9
 
 
-def _stitch_length(model, positions, box) -> float:
-    """Total length (um) of the stitch bonds, each bond's shortest periodic copy found by trying
-    every in-plane image -2..2 (independent of Box.minimum_image)."""
-    bonds = model.bonds[model.role_mask("stitch")[model.bonds[:, 0]]]
+def _stitch_length(model, positions, box, skip=0) -> float:
+    """Total length (um) of the stitch bonds but the first ``skip``, each bond's shortest
+    periodic copy found by trying every in-plane image -2..2 (independent of
+    Box.minimum_image)."""
+    bonds = model.bonds[model.role_mask("stitch")[model.bonds[:, 0]]][skip:]
     delta = positions[bonds[:, 1]] - positions[bonds[:, 0]]
     shifts = np.array([[i, j, 0] for i in range(-2, 3) for j in range(-2, 3)]) @ box.matrix.T
     return np.linalg.norm(delta[:, None, :] + shifts[None], axis=2).min(axis=1).sum()
@@ -99,6 +100,15 @@ def test_the_stitch_path_strain_against_the_frames_affine_map(model, tmp_path):
     assert thickened["stitch_path_affine_strain"] == pytest.approx(0.0, abs=1e-12)
     assert thickened["stitch_path_strain"] == pytest.approx(expected - 1.0, abs=1e-9)
     assert thickened["stitch_path_strain"] > 0.01
+    # a state whose first three stitch bonds broke: the strain of the bonds it still has
+    stitch_bond = np.flatnonzero(model.role_mask("stitch")[model.bonds[:, 0]])
+    keep = np.setdiff1d(np.arange(model.n_bonds), stitch_bond[:3])
+    broken = dataclasses.replace(model, bonds=model.bonds[keep], bond_type=model.bond_type[keep])
+    after = path_attrs(model, reference, _state(broken, thick, model.box, tmp_path / "b.data"))
+    expected = _stitch_length(model, thick, model.box, 3) / _stitch_length(
+        model, model.positions, model.box, 3
+    )
+    assert after["stitch_path_strain"] == pytest.approx(expected - 1.0, abs=1e-9)
 
 
 def test_underlaps_pulled_straight_narrow_by_the_pull(model, tmp_path):

@@ -187,19 +187,19 @@ def stitch_holes(model: Model, positions: np.ndarray, box: Box) -> list[YarnHole
 
 
 def _model_states(model: Model, reference: str | Path | None, state: str | Path):
-    """[(positions (N, 3) um, box)] of ``reference`` (a state file; None: the generated model)
-    and ``state``, the model's beads only (the first ``model.n_atoms`` of a state: atoms a
-    hand-edited deck adds come after them); None without a stitch, without the state files or
-    with a state of fewer beads than the model."""
+    """[(positions (N, 3) um, box, bonds (B, 2))] of ``reference`` (a state file; None: the
+    generated model) and ``state``, the model's beads only (the first ``model.n_atoms`` of a
+    state: atoms a hand-edited deck adds come after them); None without a stitch, without the
+    state files or with a state of fewer beads than the model."""
     files = [Path(f) for f in (reference, state) if f is not None]
     if not model.role_mask("stitch").any() or not all(f.is_file() for f in files):
         return None
     states = [read_data(f) for f in files]
     if min(len(s.positions) for s in states) < model.n_atoms:
         return None
-    pairs = [(s.positions[: model.n_atoms], s.box) for s in states]
+    pairs = [(s.positions[: model.n_atoms], s.box, s.bonds) for s in states]
     if reference is None:
-        pairs.insert(0, (model.positions, model.box))
+        pairs.insert(0, (model.positions, model.box, model.bonds))
     return pairs
 
 
@@ -211,7 +211,7 @@ def hole_attrs(model: Model, reference: str | Path | None, state: str | Path) ->
     fibres' rigid drift. Empty where :func:`_model_states` finds no states."""
     if (pairs := _model_states(model, reference, state)) is None:
         return {}
-    (since_positions, since_box), (positions, box) = pairs
+    (since_positions, since_box, _), (positions, box, _) = pairs
     generated = stitch_holes(model, model.positions, model.box)
     since = generated if reference is None else stitch_holes(model, since_positions, since_box)
     current = stitch_holes(model, positions, box)
@@ -230,13 +230,16 @@ def path_attrs(model: Model, reference: str | Path, state: str | Path) -> dict:
     """How much longer the stitch is in the state file ``state`` than in ``reference``
     (docs/stitch.md): ``stitch_path_strain``, the relative change of the total length of
     every stitch bond, and ``stitch_path_affine_strain``, the change the box's in-plane
-    deformation alone would give (each bond carried by the cell's affine map, its z kept). Their
-    difference is what the cell's own motion (thickening, tows rolling) asks of the yarn. Empty
-    where :func:`_model_states` finds no states."""
+    deformation alone would give (each bond carried by the cell's affine map, its z kept), over
+    the bonds ``state`` still has (a broken one is left out). Their difference is what the
+    cell's own motion (thickening, tows rolling) asks of the yarn. Empty where
+    :func:`_model_states` finds no states."""
     if (pairs := _model_states(model, reference, state)) is None:
         return {}
-    (before, box0), (after, box1) = pairs
+    (before, box0, _), (after, box1, bonds) = pairs
     stitch_bonds = model.bonds[model.role_mask("stitch")[model.bonds[:, 0]]]
+    broken = broken_bonds(stitch_bonds, bonds, max(len(after), int(bonds.max(initial=-1)) + 1))
+    stitch_bonds = np.delete(stitch_bonds, broken, axis=0)
     actual, affine = path_strains((before, after), (box0, box1), stitch_bonds)
     return {"stitch_path_strain": actual, "stitch_path_affine_strain": affine}
 
