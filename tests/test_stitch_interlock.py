@@ -304,6 +304,11 @@ def test_a_weak_stitch_breaks_in_its_yarn_and_stays_stable(interlocked):
     assert len(gone) == broken
     kinds = {segment_kind(before.bond_labels[t]) for t in before.bond_type[gone]}
     assert kinds <= {"leg", "loop", "underlap"}
+    # the path strain counts the unbroken bonds: after 2 deg (affine strain below 0.04 %) their
+    # length has changed by a few per cent at most, where one broken bond counted would add its
+    # gap of up to the cell
+    assert abs(group["attrs"]["stitch_path_affine_strain"]) < 4e-4
+    assert abs(group["attrs"]["stitch_path_strain"]) < 0.05
 
 
 def test_bond_tensions_read_through_a_tilted_periodic_box():
