@@ -300,7 +300,7 @@ def test_a_weak_stitch_breaks_in_its_yarn_and_stays_stable(interlocked):
     assert bool(results["attrs"]["complete"])
     before = read_data(folder / "manufactured.data")
     after = read_data(folder / "shear_2deg.data")
-    gone = broken_bonds(before.bonds, after.bonds, len(before.positions))
+    gone = broken_bonds(before.bonds, after.bonds)
     assert len(gone) == broken
     kinds = {segment_kind(before.bond_labels[t]) for t in before.bond_type[gone]}
     assert kinds <= {"leg", "loop", "underlap"}

@@ -35,16 +35,17 @@ __all__ = [
 FACE_BAND = 0.1
 
 
-def _pair_keys(bonds: np.ndarray, n_atoms: int) -> np.ndarray:
-    """(B,) int, one key per unordered bead pair of the (B, 2) bead indices."""
+def _pair_keys(bonds: np.ndarray, base: int) -> np.ndarray:
+    """(B,) int, one key per unordered bead pair of the (B, 2) bead indices (each < ``base``)."""
     ordered = np.sort(bonds, axis=1).astype(np.int64)
-    return ordered[:, 0] * n_atoms + ordered[:, 1]
+    return ordered[:, 0] * base + ordered[:, 1]
 
 
-def broken_bonds(before: np.ndarray, after: np.ndarray, n_atoms: int) -> np.ndarray:
+def broken_bonds(before: np.ndarray, after: np.ndarray) -> np.ndarray:
     """(K,) indices into ``before`` ((B, 2) bead indices) of the bonds missing from ``after``
-    ((B', 2)): the bonds broken between two states of ``n_atoms`` beads."""
-    gone = ~np.isin(_pair_keys(before, n_atoms), _pair_keys(after, n_atoms))
+    ((B', 2)): the bonds broken between two states."""
+    base = int(max(before.max(initial=-1), after.max(initial=-1))) + 1
+    gone = ~np.isin(_pair_keys(before, base), _pair_keys(after, base))
     return np.flatnonzero(gone)
 
 

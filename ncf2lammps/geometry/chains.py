@@ -1,8 +1,8 @@
 """Curves to bead chains (pure numpy).
 
 A chain is a closed (or open) polyline sampled by beads: every vertex carries a bead, and each
-segment is split into equal bonds close to the target spacing. Periodic straight chains are the special case
-of one segment whose end is the start shifted by a box edge.
+segment is split into equal bonds close to the target spacing. Periodic straight chains are the
+special case of one segment whose end is the start shifted by a box edge.
 """
 
 from __future__ import annotations

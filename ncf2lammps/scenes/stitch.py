@@ -153,7 +153,7 @@ def _breaks(directory: Path, final_state: str) -> dict:
     (K, 2, 0-based) and midpoints in the manufactured cell (K, 3, mm)."""
     before = read_data(directory / "manufactured.data")
     after = read_data(directory / final_state)
-    gone = broken_bonds(before.bonds, after.bonds, len(before.positions))
+    gone = broken_bonds(before.bonds, after.bonds)
     pairs = before.bonds[gone]
     box = before.box
     middle = units.from_micro(bond_midpoints(before.positions, pairs, box.lo, box.lengths), "mm")
@@ -238,8 +238,7 @@ def path_attrs(model: Model, reference: str | Path, state: str | Path) -> dict:
         return {}
     (before, box0, _), (after, box1, bonds) = pairs
     stitch_bonds = model.bonds[model.role_mask("stitch")[model.bonds[:, 0]]]
-    broken = broken_bonds(stitch_bonds, bonds, max(len(after), int(bonds.max(initial=-1)) + 1))
-    stitch_bonds = np.delete(stitch_bonds, broken, axis=0)
+    stitch_bonds = np.delete(stitch_bonds, broken_bonds(stitch_bonds, bonds), axis=0)
     actual, affine = path_strains((before, after), (box0, box1), stitch_bonds)
     return {"stitch_path_strain": actual, "stitch_path_affine_strain": affine}
 
