@@ -8,6 +8,7 @@ import os
 import shutil
 import signal
 import subprocess
+import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -281,6 +282,16 @@ def kill_after_checkpoint(
     process.send_signal(signal.SIGKILL)
     process.wait()
     return running
+
+
+def run_lammps_file(folder: Path, deck: str) -> None:
+    """Run the LAMMPS input ``deck`` in ``folder`` in a fresh process, as the orchestration runs
+    each scene: a second LAMMPS instance in one process can follow another trajectory from the
+    same restart file (measured on the coarse compaction deck, first records onwards)."""
+    script = "from ncf2lammps.engine import Engine\nwith Engine(log=None) as e:\n    e.file({!r})\n"
+    subprocess.run(
+        [sys.executable, "-c", script.format(deck)], cwd=folder, check=True, capture_output=True
+    )
 
 
 def copy_run(folder: Path, destination: Path) -> Path:

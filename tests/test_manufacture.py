@@ -5,7 +5,7 @@ from __future__ import annotations
 import h5py
 import numpy as np
 import pytest
-from conftest import case_spec, tiny_spec
+from conftest import case_spec, run_lammps_file, tiny_spec
 
 from ncf2lammps.io.datafile import read_data
 from ncf2lammps.io.results import read_results
@@ -164,3 +164,38 @@ def test_needle_axes_include_periodic_images():
     axes = needle_axes(model)
     assert len(axes) > len(model.needle_points)
     assert np.any(axes[:, 0] > model.box.lengths[0])
+
+
+@pytest.mark.lammps
+def test_needle_walls_on_their_reach_push_as_on_every_fibre_bead(tmp_path):
+    """The needle walls act on a dynamic group of the fibre beads within reach of a needle
+    (rebuilt every ``needle_reach.every`` steps). Law: a wall of range r_c only pushes beads
+    within r_c of its surface, so the needle and insertion stages give bit-identical positions
+    (tolerance 0) whether the walls act on that group or on every fibre bead; the group at the
+    end of the stages is a nonempty strict subset of the fibre beads, and the needles moved some
+    bead by more than a quarter diameter. Fast needles and short damping keep the run short."""
+    from ncf2lammps.orchestration.build import build
+
+    spec = tiny_spec(manufacture={"needle_speed_m_s": 50.0, "damping_time_us": 5.0})
+    folder = build(spec, tmp_path / "run").directory
+    deck = (folder / "decks" / "in.manufacture.lmp").read_text().split("# stage: pretension")[0]
+    assert " needle_near wall/region " in deck
+    ends = {
+        "reach": 'print "$(count(needle_near)) $(count(fibre))" file counts.txt\n',
+        "every": "",
+    }
+    for name, end in ends.items():
+        text = (
+            deck
+            if name == "reach"
+            else deck.replace(" needle_near wall/region ", " fibre wall/region ")
+        )
+        (folder / f"in.{name}.lmp").write_text(f"{text}{end}write_data {name}.data nocoeff\n")
+        run_lammps_file(folder, f"in.{name}.lmp")
+    reach, every = (read_data(folder / f"{name}.data") for name in ends)
+    np.testing.assert_array_equal(reach.positions, every.positions)
+    start = read_data(folder / "model.data").positions
+    moved = np.linalg.norm(reach.box.minimum_image(reach.positions - start), axis=1)
+    assert 0.25 * spec.discretisation.chain_diameter_um < moved.max()
+    near, fibre = map(float, (folder / "counts.txt").read_text().split())
+    assert 0 < near < fibre

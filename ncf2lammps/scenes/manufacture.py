@@ -42,7 +42,7 @@ from ..geometry.direction import lattice_direction
 from ..io.datafile import read_data
 from ..io.lammpslog import read_ave_time, read_final
 from ..model import Model
-from ..numerics import Prepared
+from ..numerics import GUARD_MAX_STEP_MOVE, Prepared
 from ..spec import FabricSpec
 from .base import Scene
 from .stitch import hole_attrs, rest_lengths_file, segment_kind, tension_attrs
@@ -57,6 +57,10 @@ CONTROL_EVERY = 10
 #: moving this far per step has (1e-3 / GUARD_KINETIC_FLOOR_STEP_MOVE)^2 = 11 x the kinetic
 #: guard's floor energy, below its jump factor of 50, so the kinetic guard stays armed.
 PUSHOFF_STEP_MOVE = 1.0e-3
+#: The needle walls act on the fibre beads within this many largest bead diameters beyond their
+#: range: the reach cylinders hold ~10 % of the paper cell's beads, the group rebuilt every 24
+#: steps.
+NEEDLE_REACH_MARGIN = 2.0
 #: The push-off halts at the contact force of this fraction of the tolerated overlap: the
 #: contact damping of pairs parting at the move limit lowers their force below k_n x overlap
 #: (by half on the coarse random bed of tests/test_random_mat.py, measured against the overlap
@@ -146,6 +150,7 @@ def deck_values(run: Prepared) -> dict:
     stitch_type = next(i + 1 for i, t in enumerate(model.atom_types) if t.role == "stitch")
     axes = needle_axes(model)
     radius = model.needle_diameter / 2
+    cutoff = float(model.diameter[fibre].max()) / 2
     nearest = float(min_xy_distance(model.positions[fibre], axes, model.box.lengths).min())
     start_radius = max(1e-3, min(0.5 * nearest, 0.1 * radius))
     if spec.mat.arrangement == "random":
@@ -172,7 +177,8 @@ def deck_values(run: Prepared) -> dict:
         "needle_zlo": float(model.box.lo[2]),
         "needle_zhi": float(model.box.hi[2]),
         "needle_epsilon": _needle_stiffness(run) / 2,
-        "needle_cutoff": float(model.diameter[fibre].max()) / 2,
+        "needle_cutoff": cutoff,
+        "needle_reach": _needle_reach(model, radius + cutoff),
         "needle_steps": math.ceil((radius - start_radius) / speed / dt) + damping_steps,
         "insertion_steps": damping_steps,
         "fibre_mass": list(zip(fibre_types, type_mass[:-1], strict=True)),
@@ -253,6 +259,18 @@ def _creep_values(run: Prepared) -> dict | None:
         "scale": stiffness / (tension * CONTROL_EVERY * dt),
         "target": settings.stitch_creep_target_per_ms / units.to_micro(1.0, "ms"),
     }
+
+
+def _needle_reach(model: Model, wall_range: float) -> dict:
+    """The fibre beads the needle walls (range ``wall_range`` um from an axis at full radius)
+    act on: those within ``radius`` um of an axis, a dynamic group rebuilt ``every`` steps, so
+    few that a bead at the speed guard's limit
+    (:data:`~ncf2lammps.numerics.GUARD_MAX_STEP_MOVE` smallest diameters per step) cannot cross
+    the margin of :data:`NEEDLE_REACH_MARGIN` largest diameters in between: the walls exert the
+    same forces as on every fibre bead."""
+    margin = NEEDLE_REACH_MARGIN * float(model.diameter.max())
+    every = int(margin // (GUARD_MAX_STEP_MOVE * float(model.diameter.min())))
+    return {"radius": wall_range + margin, "every": max(1, every)}
 
 
 def _needle_stiffness(run: Prepared) -> float:
