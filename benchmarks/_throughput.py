@@ -29,7 +29,7 @@ def paper_mat_folder(directory: Path, plate_speed_m_s: float = 3.0) -> tuple[Pat
     data = load_spec(ROOT / "runs" / "hpt310" / "spec.toml").to_dict()
     data.pop("stitch")
     data["cell"] = {"length_mm": 11.2, "width_mm": 5.08}  # the stitch repeat of runs/hpt310
-    data["compaction"].update(final_fvf=0.33, plate_speed_m_s=plate_speed_m_s)
+    data["compaction"].update(end="final_fvf", final_fvf=0.33, plate_speed_m_s=plate_speed_m_s)
     spec = spec_from_dict(data)
     built = build(spec, directory, force=True)
     return built.directory, built.model.n_atoms

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_loading_follows_its_law, case_spec, copy_run, run_lammps_file
+from conftest import assert_loading_follows_its_law, case_spec, copy_run
 
 from ncf2lammps import build, prepare, run, run_scenes
 from ncf2lammps.analysis.compaction import CompactionCurve, smooth
@@ -193,36 +193,3 @@ def test_stiffening_exponent_of_a_power_law_curve():
         window=1,
     ).compute()
     assert curve.stiffening_exponent(1.0, 18.0) == pytest.approx(b, rel=1e-6)
-
-
-@pytest.mark.lammps
-def test_slab_plates_press_as_infinite_planes(coarse_manufactured, tmp_path):
-    """Each plate is the closed face of a slab region one bead's reach deep, so that the plates
-    skip the beads far from them. Law: a plate only touches beads within their radius of it, and
-    a bead leaving it is seen out of contact inside the slab, so the first 6,000 steps of the
-    coarse cell's compaction record bit-identical histories (tolerance 0) with slabs and with the
-    half-spaces of plane regions, both plates loaded in some records."""
-    import re
-
-    planes = {
-        "plate_top": "plane 0.0 0.0 ${plate_start} 0.0 0.0 -1.0 move NULL NULL v_plate_drop",
-        "plate_bottom": "plane 0.0 0.0 ${plate_bottom} 0.0 0.0 1.0",
-    }
-    histories = {}
-    for name in ("slabs", "planes"):
-        folder = copy_run(coarse_manufactured, tmp_path / name)
-        deck = folder / "decks" / "in.compaction.lmp"
-        text, runs = re.subn(r"(?m)^run +[1-9]\d*$", "run 6000", deck.read_text())
-        lines = text.splitlines(keepends=True)
-        slabs = [i for i, line in enumerate(lines) if re.match(r"region +plate_\w+ block ", line)]
-        assert runs == 1 and len(slabs) == 2
-        if name == "planes":
-            for i in slabs:
-                region = lines[i].split()[1]
-                lines[i] = f"region {region} {planes[region]} units box\n"
-        deck.write_text("".join(lines))
-        run_lammps_file(folder, "decks/in.compaction.lmp")
-        histories[name] = (folder / "compaction.history.txt").read_text()
-    assert histories["slabs"] == histories["planes"]
-    records = np.loadtxt(histories["slabs"].splitlines())
-    assert np.count_nonzero((records[:, 3] > 0) & (records[:, 4] > 0)) > 5

@@ -63,10 +63,6 @@ def plate_speed(spec: FabricSpec, model: Model) -> float:
 #: pressed into each other push the bed apart once the stitch holds it (the coarse bundle case
 #: grew from 1.03 to 1.19 mm, 1.16 x).
 RANDOM_BED_SWELL = 1.5
-#: Depth of the slab regions whose closed faces are the plates, in largest bead diameters (plus
-#: the top plate's largest step): a bead's radius and a margin of one diameter, ten times the
-#: move per step at which the speed guard stops a run.
-PLATE_DEPTH = 1.5
 
 
 def _final_gap(spec: FabricSpec, model: Model) -> float:
@@ -92,7 +88,6 @@ def deck_values(run: Prepared) -> dict:
         "contact": run.contact,
         "clearance": 1e-3 * float(model.diameter.min()),
         "control": control,
-        "plate_depth": PLATE_DEPTH * float(model.diameter.max()) + control.rate_max * dt,
         "steps": math.ceil(travel / control.rate / dt),
         "record_every": control.every,
         "final_gap": _final_gap(spec, model),
