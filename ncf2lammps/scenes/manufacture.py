@@ -58,8 +58,8 @@ CONTROL_EVERY = 10
 #: guard's floor energy, below its jump factor of 50, so the kinetic guard stays armed.
 PUSHOFF_STEP_MOVE = 1.0e-3
 #: The needle walls act on the fibre beads within this many largest bead diameters beyond their
-#: range: the reach cylinders hold ~10 % of the paper cell's beads, the group rebuilt every 24
-#: steps.
+#: range: on the paper's cell the reach cylinders hold ~10 % of the beads, the group rebuilt
+#: every 24 steps.
 NEEDLE_REACH_MARGIN = 2.0
 #: The push-off halts at the contact force of this fraction of the tolerated overlap: the
 #: contact damping of pairs parting at the move limit lowers their force below k_n x overlap
