@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from conftest import case_spec, run_lammps_file, tiny_spec
 
+from ncf2lammps import build
 from ncf2lammps.io.datafile import read_data
 from ncf2lammps.io.results import read_results
 from ncf2lammps.numerics import prepare
@@ -174,8 +175,6 @@ def test_needle_walls_on_their_reach_push_as_on_every_fibre_bead(tmp_path):
     (tolerance 0) whether the walls act on that group or on every fibre bead; the group at the
     end of the stages is a nonempty strict subset of the fibre beads, and the needles moved some
     bead by more than a quarter diameter. Fast needles and short damping keep the run short."""
-    from ncf2lammps.orchestration.build import build
-
     spec = tiny_spec(manufacture={"needle_speed_m_s": 50.0, "damping_time_us": 5.0})
     folder = build(spec, tmp_path / "run").directory
     deck = (folder / "decks" / "in.manufacture.lmp").read_text().split("# stage: pretension")[0]
