@@ -36,7 +36,7 @@ import numpy as np
 
 from ..analysis.plots import plot_study
 from ..analysis.study import pareto_front, relative_errors
-from ..engine import Checkpoints, EngineError
+from ..engine import EngineError
 from ..geometry.size import check_model_size
 from ..io.results import ResultsFileError, mark_complete, read_results, update_root
 from ..io.spectoml import dumps_spec, write_spec
@@ -308,17 +308,16 @@ def _run_from_manufactured(
     """
     partial = temporary_folder(directory)
     shutil.rmtree(partial, ignore_errors=True)
+    todo = [s for s in scenes if s not in keep]
     killed = _killed_partial(directory, point.spec)
     if killed is not None:
         killed.rename(partial)
-    else:
-        shutil.copytree(source, partial)
-    todo = [s for s in scenes if s not in keep]
+    else:  # never a moment with the source's checkpoints of the scenes to run in the copy
+        checkpoints = shutil.ignore_patterns(*(f"{scene}.checkpoint.*" for scene in todo))
+        shutil.copytree(source, partial, ignore=checkpoints)
     try:
         results = partial / "results.h5"
         if killed is None:
-            for scene in todo:
-                Checkpoints(scene).clear(partial)
             write_spec(partial / "spec.resolved.toml", point.spec)
             update_root(
                 results,
