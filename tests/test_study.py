@@ -87,6 +87,31 @@ def test_a_study_whose_points_all_failed_writes_its_tables_without_warnings(tmp_
     assert "failed: push-off check" in (tmp_path / "study.md").read_text()
 
 
+def test_the_fastest_point_named_is_within_tolerance_and_quasi_static(tmp_path):
+    """Of three points (reference, a fast one that agrees within 3 % but whose test failed its
+    kinetic stress check, a slower one that agrees and passed), study.md names the slower one
+    as the fastest and says why the faster one is not counted."""
+    spec = tiny_spec()
+    points, reference = study_grid(spec, [("compaction.inertial_number", [0.025, 0.2, 0.05])])
+    rows = [
+        {"point": p.label, **p.knobs, "status": "ok", "steps": 1, "max_kinetic_ratio": 0.0}
+        for p in points
+    ]
+    for row, t, wall, stress in zip(
+        rows, (0.60, 0.601, 0.602), (400.0, 100.0, 200.0), (0.001, 0.05, 0.008), strict=True
+    ):
+        outputs = {"thickness_at_1kPa_mm": t, "thickness_at_18kPa_mm": t - 0.1}
+        row.update(outputs, stiffening_exponent=0.05, wall_s=wall)
+        row.update(max_kinetic_stress_ratio=stress, quasi_static=stress <= 0.01)
+    _write_tables(tmp_path, spec, points, reference, rows, ["compaction"], 0.03)
+    text = (tmp_path / "study.md").read_text()
+    fastest = next(line for line in text.splitlines() if line.startswith("Fastest point"))
+    assert "**p02**" in fastest and "1/2 of the reference" in fastest
+    assert "p01 is within 3% in 100 s but failed its quasi-static check" in text
+    quasi = [r["quasi_static"] for r in csv.DictReader(open(tmp_path / "study.csv"))]
+    assert quasi == ["True", "False", "True"]
+
+
 def test_seed_points_form_an_ensemble_with_mean_and_sample_spread():
     """Points equal but for mat.seed: mean, sample std (ddof 1), min and max per output; the
     reference of a seed list is its first seed; failed points are left out."""
