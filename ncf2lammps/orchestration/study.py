@@ -14,8 +14,9 @@ Stages of :func:`study`:
    equal an earlier point's starts from a copy of that manufactured state and runs only the
    test scenes (wall times still count the scenes reused);
 3. the table: each output (:data:`OUTPUTS`), its relative error against the reference, the
-   largest error, wall time, steps and the Pareto front (no faster point is as accurate):
-   ``study.csv``, ``study.md`` and ``study.png``, written last.
+   largest error, wall time, steps, whether the tests passed their quasi-static check, the
+   Pareto front (no faster point is as accurate) and the fastest quasi-static point within the
+   tolerance: ``study.csv``, ``study.md`` and ``study.png``, written last.
 """
 
 from __future__ import annotations
