@@ -520,11 +520,12 @@ def _fastest_lines(table: _Table, rows, reference: int, tolerance: float) -> lis
         )
         faster = agree & ~quasi_static
     for i in np.flatnonzero(faster):
-        lines.append(
+        lines += [
+            "",
             f"{rows[i]['point']} is within {tolerance:.0%} in {wall[i]:.0f} s but failed its"
             f" quasi-static check (max kinetic stress ratio {rows[i]['max_kinetic_stress_ratio']:.2g}):"
-            " not counted."
-        )
+            " not counted.",
+        ]
     return lines
 
 
