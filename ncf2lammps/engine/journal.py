@@ -72,9 +72,14 @@ class Checkpoints:
         state = json.loads(path.read_text())
         return state if (Path(directory) / state["restart"]).is_file() else None
 
+    @property
+    def files(self) -> str:
+        """Glob pattern of this deck's checkpoint record and restart files."""
+        return f"{self.name}.checkpoint.*"
+
     def clear(self, directory: str | os.PathLike = ".") -> None:
         """Remove this deck's checkpoint record and restart files from ``directory``."""
-        for old in Path(directory).glob(f"{self.name}.checkpoint.*"):
+        for old in Path(directory).glob(self.files):
             old.unlink()
 
 

@@ -37,7 +37,7 @@ import numpy as np
 
 from ..analysis.plots import plot_study
 from ..analysis.study import pareto_front, relative_errors
-from ..engine import EngineError
+from ..engine import Checkpoints, EngineError
 from ..geometry.size import check_model_size
 from ..io.results import ResultsFileError, mark_complete, read_results, update_root
 from ..io.spectoml import dumps_spec, write_spec
@@ -314,7 +314,7 @@ def _run_from_manufactured(
     if killed is not None:
         killed.rename(partial)
     else:  # never a moment with the source's checkpoints of the scenes to run in the copy
-        checkpoints = shutil.ignore_patterns(*(f"{scene}.checkpoint.*" for scene in todo))
+        checkpoints = shutil.ignore_patterns(*(Checkpoints(scene).files for scene in todo))
         shutil.copytree(source, partial, ignore=checkpoints)
     try:
         results = partial / "results.h5"
