@@ -17,7 +17,7 @@ from .engine import EngineError
 from .geometry.bundle import FIT_WINDOW_KPA, spec_bundle_law
 from .geometry.direction import lattice_direction
 from .io.results import ResultsFileError
-from .numerics import STABLE_FRACTION, prepare, stitch_mass_balance
+from .numerics import STABLE_FRACTION, perturbation, prepare, stitch_mass_balance
 from .orchestration.build import OutputExistsError, build, check_ranks
 from .orchestration.export import export
 from .orchestration.folder import RunFolderError, check_output
@@ -104,6 +104,12 @@ def _check(args) -> int:
             f"stitch        sets the step: numerics.stitch_mass_scaling ="
             f" {balance * numerics.stitch_mass_scaling:.3g} lifts its limits to the fibres'"
             f" (docs/performance.md)"
+        )
+    replica = perturbation(spec, model)
+    if replica is not None:
+        lines.append(
+            f"replica       numerics.perturbation_seed = {replica.seed}: each scene starts by"
+            f" moving every bead by up to {replica.amplitude:.3g} um per axis (docs/study.md)"
         )
     print("\n".join(lines))
     return 0

@@ -48,15 +48,18 @@ __all__ = [
     "GUARD_MAX_KINETIC_JUMP",
     "GUARD_MAX_OVERLAP",
     "GUARD_MAX_STEP_MOVE",
+    "PERTURBATION_AMPLITUDE",
     "STABLE_FRACTION",
     "ContactLaw",
     "Guards",
+    "Perturbation",
     "Prepared",
     "TimeStep",
     "contact_law",
     "damped_law",
     "guards",
     "inertial_strain_rate",
+    "perturbation",
     "prepare",
     "simulated_model",
     "stitch_mass_balance",
@@ -91,6 +94,13 @@ COORDINATION = 6
 
 #: Overlap (fraction of the smaller diameter) at which a Hertz contact's stiffness is evaluated.
 HERTZ_REFERENCE_OVERLAP = 0.05
+
+#: Largest displacement per axis of a replica's perturbation (``numerics.perturbation_seed``),
+#: fraction of the smallest bead diameter: 1e-6 d is below 1 % of the contacts' overlaps (F / k_n
+#: of 10^-3 to 10^-1 N at 10^6 N/m: 10^-3 to 10^-1 um against 2 x 10^-4 um at 200 um) and far
+#: above the rounding of a coordinate (~10^-12 of the cell); the frictional contacts' chaos
+#: amplifies it into an independent trajectory.
+PERTURBATION_AMPLITUDE = 1e-6
 
 
 def simulated_model(spec: FabricSpec, model: Model) -> Model:
@@ -385,6 +395,24 @@ def guards(spec: FabricSpec, model: Model, dt: float) -> Guards:
         max_kinetic_jump=GUARD_MAX_KINETIC_JUMP,
         kinetic_floor=0.5 * float(simulated_model(spec, model).mass.sum()) * floor_speed**2,
     )
+
+
+@dataclass(frozen=True)
+class Perturbation:
+    """A replica's perturbation at the start of every scene: each bead displaced by a random
+    vector, uniform in ``[-amplitude, amplitude]`` (um) per axis, drawn from ``seed`` (LAMMPS
+    ``displace_atoms random``)."""
+
+    amplitude: float
+    seed: int
+
+
+def perturbation(spec: FabricSpec, model: Model) -> Perturbation | None:
+    """The replica's perturbation of ``numerics.perturbation_seed``, None when it is 0."""
+    seed = spec.numerics.perturbation_seed
+    if seed == 0:
+        return None
+    return Perturbation(PERTURBATION_AMPLITUDE * float(model.diameter.min()), seed)
 
 
 def inertial_strain_rate(model: Model, inertial_number: float, pressure: float) -> float:

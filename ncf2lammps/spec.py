@@ -448,6 +448,15 @@ class NumericsSpec:
     )
     neighbor_skin_um: float | None = _f(None, 0.01, 1e4, unit="um", source="None: d/10, >= 1 um")
     thermo_every: int = _f(1000, 1, 10**9, unit="steps", source="output cadence")
+    perturbation_seed: int = _f(
+        0,
+        0,
+        2**31 - 1,
+        unit="-",
+        source="0: none (the paper's model). A replica of the same run: each scene starts by"
+        " displacing every bead by a seeded random vector of 1e-6 bead diameters, so that"
+        " replicas measure the trajectories' scatter (docs/study.md)",
+    )
     guard_every: int = _f(100, 1, 10**9, unit="steps", source="stability guard cadence")
 
 

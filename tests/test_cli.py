@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from conftest import ROOT
@@ -29,6 +30,16 @@ def test_check_prints_sizes_and_time_step():
         "margin",
     ):
         assert words in out.stdout
+    assert "replica" not in out.stdout
+
+
+def test_check_names_a_replica_and_its_perturbation(tmp_path):
+    """A spec with numerics.perturbation_seed: `check` says that every scene moves the beads."""
+    spec = tmp_path / "replica.toml"
+    spec.write_text(Path(COARSE).read_text() + "\n[numerics]\nperturbation_seed = 7\n")
+    out = cli("check", spec)
+    assert out.returncode == 0, out.stderr
+    assert "numerics.perturbation_seed = 7: each scene starts by moving every bead" in out.stdout
 
 
 def test_check_piped_into_a_reader_that_stops_leaves_no_traceback():

@@ -10,7 +10,12 @@ from conftest import tiny_spec
 
 from ncf2lammps import build_model
 from ncf2lammps.io.datafile import read_data
-from ncf2lammps.numerics import simulated_model, stitch_mass_balance, time_step
+from ncf2lammps.numerics import (
+    PERTURBATION_AMPLITUDE,
+    simulated_model,
+    stitch_mass_balance,
+    time_step,
+)
 from ncf2lammps.orchestration.build import build
 
 
@@ -100,3 +105,52 @@ def test_a_model_beyond_max_beads_is_refused_before_allocation():
     with pytest.raises(SpecError, match="chain_diameter_um") as err:
         build_model(tiny_spec(discretisation={"chain_diameter_um": 1.0}))
     assert f"{MAX_BEADS:,}" in str(err.value) and "\n" not in str(err.value)
+
+
+def _perturbed_positions(folder, deck: str, monkeypatch, save: str = "") -> np.ndarray:
+    """(N, 3) bead positions (um) after the commands of ``deck`` up to its displace_atoms line,
+    run in ``folder`` (the deck's relative paths); ``save``: a restart file written then."""
+    from ncf2lammps.engine import Engine
+
+    monkeypatch.chdir(folder)
+    lines = [line.split("#")[0].strip() for line in (folder / deck).read_text().splitlines()]
+    lines = [line for line in lines if line]
+    last = next(i for i, line in enumerate(lines) if line.startswith("displace_atoms"))
+    with Engine(log=None) as engine:
+        for line in lines[: last + 1]:
+            engine.command(line)
+        if save:
+            engine.command("run 0")
+            engine.command(f"write_restart {save}")
+        return engine.gather("x", 3)
+
+
+@pytest.mark.lammps
+def test_a_replica_moves_each_bead_by_at_most_its_amplitude_and_its_seed_repeats(
+    tmp_path, monkeypatch
+):
+    """numerics.perturbation_seed: in LAMMPS every bead moves by a uniform random amount in
+    [-a, a] per axis, a = PERTURBATION_AMPLITUDE x the smallest diameter (the largest of
+    3N draws lies within 1 % of a), at the start of a scene from the data file and of one from
+    a restart with contact history; the same seed repeats to the last digit and another seed
+    moves the beads otherwise; seed 0 (the default) renders no perturbation."""
+    plain = build(tiny_spec(), tmp_path / "plain").directory
+    assert not any("displace_atoms" in p.read_text() for p in (plain / "decks").glob("*.lmp"))
+    data = read_data(plain / "model.data")
+    amplitude = PERTURBATION_AMPLITUDE * data.diameter.min()
+    moved = {}
+    for name, seed in (("a", 5), ("b", 5), ("c", 6)):
+        folder = build(tiny_spec(numerics={"perturbation_seed": seed}), tmp_path / name).directory
+        before = _perturbed_positions(
+            folder, "decks/in.manufacture.lmp", monkeypatch, save="manufactured.restart"
+        )
+        after = _perturbed_positions(folder, "decks/in.compaction.lmp", monkeypatch)
+        moved[name] = (before, after)
+    for start, end in ((data.positions, moved["a"][0]), moved["a"]):
+        shift = end - start
+        shift -= np.round(shift / data.box.lengths) * data.box.lengths  # periodic remaps
+        assert np.abs(shift).max() <= amplitude * (1 + 1e-6)
+        assert np.abs(shift).max() >= 0.99 * amplitude
+        assert np.abs(shift).mean() == pytest.approx(amplitude / 2, rel=0.05)
+    np.testing.assert_array_equal(moved["a"][1], moved["b"][1])
+    assert np.abs(moved["a"][1] - moved["c"][1]).max() > 0.1 * amplitude

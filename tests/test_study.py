@@ -112,18 +112,20 @@ def test_the_fastest_point_named_is_within_tolerance_and_quasi_static(tmp_path):
     assert quasi == ["True", "False", "True"]
 
 
-def test_seed_points_form_an_ensemble_with_mean_and_sample_spread():
-    """Points equal but for mat.seed: mean, sample std (ddof 1), min and max per output; the
-    reference of a seed list is its first seed; failed points are left out."""
+@pytest.mark.parametrize("seed_knob", ["mat.seed", "numerics.perturbation_seed"])
+def test_seed_points_form_an_ensemble_with_mean_and_sample_spread(seed_knob):
+    """Points equal but for a seed (a random bed's, or a replica's perturbation): mean, sample
+    std (ddof 1), min and max per output; the reference of a seed list is its first seed;
+    failed points are left out."""
     points, reference = study_grid(
-        tiny_spec(), [("mat.seed", [3, 1, 2]), ("compaction.inertial_number", [0.05, 0.1])]
+        tiny_spec(), [(seed_knob, [3, 1, 2]), ("compaction.inertial_number", [0.05, 0.1])]
     )
-    assert points[reference].knobs == {"mat.seed": 3, "compaction.inertial_number": 0.05}
+    assert points[reference].knobs == {seed_knob: 3, "compaction.inertial_number": 0.05}
     rows = [
         {"point": p.label, **p.knobs, "status": "ok", "t": float(i)} for i, p in enumerate(points)
     ]
     rows[-1]["status"] = "failed: x"
-    spreads = ensemble_spread(rows, ["mat.seed", "compaction.inertial_number"], [("t", "t")])
+    spreads = ensemble_spread(rows, [seed_knob, "compaction.inertial_number"], [("t", "t")])
     by_rate = {g["knobs"]["compaction.inertial_number"]: g for g in spreads}
     values = [r["t"] for r in rows[:-1] if r["compaction.inertial_number"] == 0.05]
     mean, std, low, high = by_rate[0.05]["t"]

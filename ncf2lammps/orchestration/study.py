@@ -49,7 +49,7 @@ from .report import write_report
 from .run import run, run_scenes, scenes_to_run
 
 __all__ = [
-    "ENSEMBLE_KNOB",
+    "ENSEMBLE_KNOBS",
     "KNOBS",
     "OUTPUTS",
     "StudyPoint",
@@ -93,11 +93,13 @@ KNOBS = {
     "manufacture.stitch_tension_N": "first",
     "stitch.E_GPa": "first",
     "mat.seed": "first",
+    "numerics.perturbation_seed": "first",
 }
 
-#: The knob whose points form an ensemble: points equal in every other knob are one model
-#: drawn with different random beds; study.md reports their mean and spread.
-ENSEMBLE_KNOB = "mat.seed"
+#: The knobs whose points form an ensemble: points equal in every other knob are one model drawn
+#: with different random beds (``mat.seed``) or run as replicas of one trajectory
+#: (``numerics.perturbation_seed``); study.md reports their mean and spread.
+ENSEMBLE_KNOBS = ("mat.seed", "numerics.perturbation_seed")
 
 #: Outputs compared across points: (scene, results.h5 attribute, label).
 OUTPUTS = (
@@ -189,10 +191,12 @@ def _reference_value(end: str, values: list):
 
 
 def ensemble_spread(rows: list[dict], knobs: Sequence[str], outputs) -> list[dict]:
-    """Mean and spread over :data:`ENSEMBLE_KNOB` of every group of finished points equal in
+    """Mean and spread over :data:`ENSEMBLE_KNOBS` of every group of finished points equal in
     all other knobs: one dict per group with 2 or more seeds, holding ``knobs`` (the other
-    knobs' values), ``seeds``, and per output attribute ``(mean, sample std, min, max)``."""
-    others = [k for k in knobs if k != ENSEMBLE_KNOB]
+    knobs' values), ``seeds`` (each member's seed, a tuple where both ensemble knobs vary),
+    and per output attribute ``(mean, sample std, min, max)``."""
+    others = [k for k in knobs if k not in ENSEMBLE_KNOBS]
+    seed_knobs = [k for k in knobs if k in ENSEMBLE_KNOBS]
     groups: dict[tuple, list[dict]] = {}
     for row in rows:
         if row["status"].startswith("ok"):
@@ -205,7 +209,10 @@ def ensemble_spread(rows: list[dict], knobs: Sequence[str], outputs) -> list[dic
         for attr, _ in outputs:
             values = np.array([m.get(attr, np.nan) for m in members], dtype=float)
             stats[attr] = (values.mean(), values.std(ddof=1), values.min(), values.max())
-        seeds = [m[ENSEMBLE_KNOB] for m in members]
+        seeds = [
+            m[seed_knobs[0]] if len(seed_knobs) == 1 else tuple(m[k] for k in seed_knobs)
+            for m in members
+        ]
         spreads.append({"knobs": dict(zip(others, key, strict=True)), "seeds": seeds, **stats})
     return spreads
 
@@ -492,7 +499,7 @@ def _markdown(spec, table: _Table, rows, reference: int, scenes, tolerance: floa
             ]
         lines.append("| " + " | ".join(cells) + " |")
     lines += ["", *_fastest_lines(table, rows, reference, tolerance)]
-    if ENSEMBLE_KNOB in knobs:
+    if set(ENSEMBLE_KNOBS) & set(knobs):
         lines += ["", *_ensemble_lines(rows, knobs, outputs)]
     return "\n".join([*lines, "", "![error against wall time](study.png)", ""])
 
@@ -535,8 +542,8 @@ def _ensemble_lines(rows, knobs, outputs) -> list[str]:
     lines = [
         "## Spread over seeds",
         "",
-        f"Points equal in every knob but `{ENSEMBLE_KNOB}`: mean +- sample standard deviation"
-        " (relative), [min, max].",
+        f"Points equal in every knob but {' and '.join(f'`{k}`' for k in ENSEMBLE_KNOBS if k in knobs)}:"
+        " mean +- sample standard deviation (relative), [min, max].",
         "",
     ]
     for group in ensemble_spread(rows, knobs, outputs):

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from .. import __version__
 from ..io.deck import render
 from ..model import Model
-from ..numerics import ContactLaw, Guards, Prepared
+from ..numerics import ContactLaw, Guards, Perturbation, Prepared, perturbation
 from ..spec import FabricSpec
 
 __all__ = ["Deck", "base_context", "deck_context", "friction_pairs", "neighbor_skin", "render_deck"]
@@ -88,6 +88,7 @@ def base_context(
     thermo_every: int = 100000,
     friction_pairs: Sequence[tuple[int, int, float]] = (),
     guards: Guards | None = None,
+    perturbation: Perturbation | None = None,
     dump_every: int = 0,
     restart_every: int = 0,
 ) -> dict:
@@ -98,7 +99,8 @@ def base_context(
     the ghost cutoff is the largest diameter plus the skin plus ``bond_reach`` longest bonds
     (a bead's diameter for a model without bonds). ``friction_pairs``: (type, type, mu)
     1-based, pairs with a friction of their own; ``guards``: the stability guards (None:
-    none); ``dump_every``, ``restart_every``: steps between trajectory frames and restart
+    none); ``perturbation``: a replica's displacement of every bead at the scene's start
+    (None: none); ``dump_every``, ``restart_every``: steps between trajectory frames and restart
     files (0: none).
     """
     d_max = float(model.diameter.max())
@@ -118,6 +120,7 @@ def base_context(
         "comm_cutoff": d_max + skin + bond_reach * longest_bond,
         "thermo_every": thermo_every,
         "guards": guards,
+        "perturbation": perturbation,
         "dump_every": dump_every,
         "restart_every": restart_every,
     }
@@ -142,6 +145,7 @@ def deck_context(
         thermo_every=spec.numerics.thermo_every,
         friction_pairs=friction_pairs(spec, model),
         guards=run.guards,
+        perturbation=perturbation(spec, model) if scene != "verify" else None,
         dump_every=spec.output.dump_every_steps if scene != "verify" else 0,
         restart_every=restart_every,
     )
