@@ -152,6 +152,46 @@ def test_resumed_run_ends_within_1_percent_of_an_unbroken_run(
     )
 
 
+@pytest.fixture(scope="module")
+def compaction_killed_and_resumed(tmp_path_factory, coarse_manufactured):
+    """Folder of a compaction (from a copy of the shared manufactured cell) killed (SIGKILL) at
+    its first checkpoint, then resumed; and whether it was still running when killed."""
+    tmp_path = tmp_path_factory.mktemp("killed-compaction")
+    folder = copy_run(coarse_manufactured, tmp_path / "run")
+    spec_file = tmp_path / "spec.toml"
+    write_spec(spec_file, fast_spec())
+    script = (
+        "from ncf2lammps import load_spec, run_scenes\n"
+        f"run_scenes(load_spec({str(spec_file)!r}), {str(folder)!r}, ['compaction'])\n"
+    )
+    start = read_results(folder / "results.h5")["manufacture"]["attrs"]["steps"]
+    command = [sys.executable, "-c", script]
+    running = kill_after_checkpoint(command, tmp_path, folder.name, "compaction", start + 1)
+    run_scenes(fast_spec(), folder, ["compaction"], resume=True)
+    return folder, running
+
+
+@pytest.mark.lammps
+def test_a_compaction_resumed_mid_run_follows_the_unbroken_one(
+    compaction_killed_and_resumed, reference
+):
+    """A compaction killed between checkpoints resumes with its plates' state (a granular
+    wall's contact history and its moving region's last position come back only to walls
+    defined before the first run after read_restart; lost, the top plate's first step read its
+    whole travel as one step's motion and the cell blew up: kinetic stress ratio 8.4, t@18 kPa
+    +10 %): LAMMPS reports no unused restart state, t@1 kPa and t@18 kPa within 1 % of the
+    unbroken run, its largest kinetic stress ratio within 2 x the unbroken one's."""
+    folder, running = compaction_killed_and_resumed
+    assert running
+    assert "Unused restart file" not in (folder / "log.compaction.lammps").read_text()
+    resumed = read_results(folder / "results.h5")["compaction"]["attrs"]
+    unbroken = reference["compaction"]["attrs"]
+    assert resumed["resumed"]
+    for key in ("thickness_at_1kPa_mm", "thickness_at_18kPa_mm"):
+        assert resumed[key] == pytest.approx(unbroken[key], rel=0.01), key
+    assert resumed["max_kinetic_stress_ratio"] <= 2.0 * unbroken["max_kinetic_stress_ratio"]
+
+
 def test_resume_refuses_another_spec_and_bad_ranks(tmp_path):
     """Bad input exits 2 with one line naming the option."""
     spec = str(Path(__file__).parent.parent / "runs" / "mat-only" / "spec.toml")

@@ -24,9 +24,13 @@ _APPEND = re.compile(r"^(fix\s+\S+\s+\S+\s+(?:ave/time|print)\b.*\s)file(\s)")
 _OUTPUT = re.compile(r"^fix\s+\S+\s+\S+\s+ave/time\b.*\s(?:file|append)\s+(\S+)")
 _DUMP = re.compile(r"^dump\s+\S+\s+\S+\s+\S+\s+\d+\s+(\S+)")
 _INTERNAL = re.compile(r"^variable\s+(\S+)\s+internal\b")
-#: Commands not run again on resume: they changed or wrote a state the checkpoint already has.
+#: Commands not run again on resume: they changed or wrote a state the checkpoint already has,
+#: and every ``run`` (``run 0`` too): the restart's fix state (a granular wall's contact history
+#: and its moving region's last position) goes only to fixes defined again before the first run
+#: after ``read_restart``; LAMMPS drops what is left at that run.
 _NOT_REPLAYED = frozenset(
     (
+        "run",
         "reset_timestep",
         "change_box",
         "displace_atoms",
@@ -208,8 +212,8 @@ def replay(
     Output files are first cut back to the checkpoint's step. The commands journaled before
     that run are run again as LAMMPS expanded them the first time (every ``$(...)`` keeps its
     original value; lines marked ``# resume: live`` are evaluated afresh), with
-    ``read_restart`` of the checkpoint for the first read and without the runs and the
-    commands that changed or wrote the state (:data:`_NOT_REPLAYED`); internal variables are
+    ``read_restart`` of the checkpoint for the first read and without any run (``run 0``
+    included) and the commands that changed or wrote the state (:data:`_NOT_REPLAYED`); internal variables are
     defined with their checkpointed values; ``fix ave/time``/``print`` files and dumps are
     appended to. ``on_command`` sees each command run again.
     """
