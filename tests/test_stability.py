@@ -115,6 +115,19 @@ def test_stitch_modulus_x100_manufacture_finishes_or_stops_with_diagnosis(tmp_pa
 
 
 @pytest.mark.lammps
+def test_a_bead_through_a_needle_wall_stops_with_a_diagnosis(tmp_path):
+    """The coarse case's manufacture at dt = 3.8 sqrt(m/k) (allowed explicitly): a bead crosses
+    a needle's wall within one step, and LAMMPS's 'Particle outside surface of region' becomes
+    the wall guard's one-line diagnosis with the step and what to lower."""
+    spec = case_spec("hpt310-coarse").replace(
+        numerics={"dt_fraction": 1.9, "allow_unstable_dt": True}
+    )
+    kind, message = outcome(spec, tmp_path / "run", scene="manufacture")
+    assert kind == "wall", message
+    assert "numerics.dt_fraction" in message and "needle_speed_m_s" in message
+
+
+@pytest.mark.lammps
 def test_far_too_large_time_step_trips_a_guard_and_cli_exits_1(tmp_path):
     """dt = 4 sqrt(m/k) (allowed explicitly) must not produce numbers: a guard stops it."""
     spec = case_spec("mat-only").replace(

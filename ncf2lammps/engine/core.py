@@ -128,6 +128,13 @@ class Engine:
                     " the box: lower numerics.dt_fraction or the loading rate (ncf2lammps check"
                     " prints the stability margin)"
                 ) from None
+            if "Particle outside surface of region" in message:
+                raise UnstableRunError(
+                    f"wall guard at step {self.step}: a bead crossed a wall (a needle or a"
+                    " plate) within one step (LAMMPS: particle outside surface of region): the"
+                    " integration is unstable or the wall moves too fast: lower numerics.dt_fraction, manufacture.needle_speed_m_s"
+                    " or the loading rate (ncf2lammps check prints the stability margin)"
+                ) from None
             command = line.split()[0] if line.split() else line
             raise EngineError(f"LAMMPS error in '{command}': {message}") from None
 
