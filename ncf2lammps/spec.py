@@ -508,6 +508,12 @@ class ManufactureSpec:
         source="averaging window of the creep rate, read only with stitch_creep_target_per_ms:"
         " 50 control times, long against the controller's response (docs/manufacture.md)",
     )
+    needle_plane_hold: bool = _f(
+        False,
+        source="false: the paper's needle stage, free in z; true: the fibre beads keep their z"
+        " while the needles part them (fix setforce), as the web lies on the machine's bed: model"
+        " choice against the compressed chains' buckling (docs/manufacture.md)",
+    )
     max_ramp_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
     max_relax_steps: int = _f(2_000_000, 1, 10**10, unit="steps", source="safety cap")
     insertion_overlap_tolerance: float = _f(

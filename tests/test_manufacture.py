@@ -198,3 +198,41 @@ def test_needle_walls_on_their_reach_push_as_on_every_fibre_bead(tmp_path):
     assert 0.25 * spec.discretisation.chain_diameter_um < moved.max()
     near, fibre = map(float, (folder / "counts.txt").read_text().split())
     assert 0 < near < fibre
+
+
+def _needle_stage_z(folder, monkeypatch) -> tuple[np.ndarray, np.ndarray]:
+    """(N,) bead z (um) after the manufacture deck's displace_atoms and at the end of its needle
+    stage, run in ``folder`` by one LAMMPS process."""
+    from ncf2lammps.engine import Engine
+
+    monkeypatch.chdir(folder)
+    deck = (folder / "decks" / "in.manufacture.lmp").read_text().splitlines()
+    lines = [line.split("#")[0].strip() for line in deck]
+    lines = [line for line in lines if line and not line.startswith("dump")]
+    moved = next(i for i, line in enumerate(lines) if line.startswith("displace_atoms"))
+    needles = next(i for i, line in enumerate(lines) if line.startswith("run ") and i > moved)
+    with Engine(log=None) as engine:
+        for line in lines[: moved + 1]:
+            engine.command(line)
+        start = engine.gather("x", 3)[:, 2]
+        for line in lines[moved + 1 : needles + 1]:
+            engine.command(line)
+        return start, engine.gather("x", 3)[:, 2]
+
+
+@pytest.mark.lammps
+def test_the_plane_hold_keeps_the_fibres_flat_while_the_needles_part_them(tmp_path, monkeypatch):
+    """A replica (perturbed out of plane) of the tiny cell: without manufacture.needle_plane_hold
+    the fibre beads move in z during the needle stage; with it no fibre bead's z changes (fix
+    setforce zeroes the z force, the beads start at rest), so the stage stays in the plane of
+    each layer as the unperturbed regular mat's does."""
+    moved = {}
+    for hold in (False, True):
+        spec = tiny_spec(numerics={"perturbation_seed": 3}, manufacture={"needle_plane_hold": hold})
+        folder = build(spec, tmp_path / f"hold-{hold}").directory
+        start, end = _needle_stage_z(folder, monkeypatch)
+        types = read_data(folder / "model.data").type_id
+        fibre = types < types.max()
+        moved[hold] = np.abs(end - start)[fibre].max()
+    assert moved[False] > 0.0
+    assert moved[True] == 0.0

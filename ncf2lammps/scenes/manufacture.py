@@ -179,6 +179,7 @@ def deck_values(run: Prepared) -> dict:
         "needle_epsilon": _needle_stiffness(run) / 2,
         "needle_cutoff": cutoff,
         "needle_reach": _needle_reach(model, radius + cutoff),
+        "needle_plane_hold": settings.needle_plane_hold,
         "needle_steps": math.ceil((radius - start_radius) / speed / dt) + damping_steps,
         "insertion_steps": damping_steps,
         "fibre_mass": list(zip(fibre_types, type_mass[:-1], strict=True)),
