@@ -20,6 +20,7 @@ from MDAnalysis.lib.distances import self_capped_distance
 import ncf2lammps.orchestration.run as orchestration_run
 from ncf2lammps import load_spec, spec_from_dict
 from ncf2lammps.engine import Checkpoints, Engine
+from ncf2lammps.engine.journal import strip_comment
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -292,6 +293,13 @@ def run_lammps_file(folder: Path, deck: str) -> None:
     subprocess.run(
         [sys.executable, "-c", script.format(deck)], cwd=folder, check=True, capture_output=True
     )
+
+
+def deck_commands(path: Path) -> list[str]:
+    """The commands of the LAMMPS deck at ``path``: comments cut as the driver cuts them, blank
+    lines and trajectory dumps left out."""
+    commands = (strip_comment(line) for line in path.read_text().splitlines())
+    return [line for line in commands if line and not line.startswith("dump")]
 
 
 def copy_run(folder: Path, destination: Path) -> Path:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import h5py
 import numpy as np
 import pytest
-from conftest import case_spec, run_lammps_file, tiny_spec
+from conftest import case_spec, deck_commands, run_lammps_file, tiny_spec
 
 from ncf2lammps import build
 from ncf2lammps.io.datafile import read_data
@@ -206,9 +206,7 @@ def _needle_stage_z(folder, monkeypatch) -> tuple[np.ndarray, np.ndarray]:
     from ncf2lammps.engine import Engine
 
     monkeypatch.chdir(folder)
-    deck = (folder / "decks" / "in.manufacture.lmp").read_text().splitlines()
-    lines = [line.split("#")[0].strip() for line in deck]
-    lines = [line for line in lines if line and not line.startswith("dump")]
+    lines = deck_commands(folder / "decks" / "in.manufacture.lmp")
     moved = next(i for i, line in enumerate(lines) if line.startswith("displace_atoms"))
     needles = next(i for i, line in enumerate(lines) if line.startswith("run ") and i > moved)
     with Engine(log=None) as engine:

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import tiny_spec
+from conftest import deck_commands, tiny_spec
 
 from ncf2lammps import build_model
 from ncf2lammps.io.datafile import read_data
@@ -113,8 +113,7 @@ def _perturbed_positions(folder, deck: str, monkeypatch, save: str = "") -> np.n
     from ncf2lammps.engine import Engine
 
     monkeypatch.chdir(folder)
-    lines = [line.split("#")[0].strip() for line in (folder / deck).read_text().splitlines()]
-    lines = [line for line in lines if line]
+    lines = deck_commands(folder / deck)
     last = next(i for i, line in enumerate(lines) if line.startswith("displace_atoms"))
     with Engine(log=None) as engine:
         for line in lines[: last + 1]:

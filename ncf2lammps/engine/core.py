@@ -22,6 +22,22 @@ from ..numerics import GUARD_MAX_BOND_STRETCH, GUARD_MAX_KINETIC_JUMP
 
 __all__ = ["Engine", "EngineError", "UnstableRunError", "lammps_version", "load_lammps"]
 
+#: LAMMPS errors that mean the integration went unstable, with the driver's diagnosis of each
+#: (``{step}``: the step, ``{message}``: LAMMPS's message).
+_LAMMPS_FAILURES = (
+    (
+        re.compile(r"Lost atoms|Bond atoms .*missing"),
+        "lost-atoms guard at step {step}: {message}; beads flew apart or left the box: lower"
+        " numerics.dt_fraction or the loading rate (ncf2lammps check prints the stability margin)",
+    ),
+    (
+        re.compile(r"Particle outside surface of region"),
+        "wall guard at step {step}: a bead crossed a wall (a needle or a plate) within one step"
+        " (LAMMPS: particle outside surface of region): the integration is unstable or the wall"
+        " moves too fast: lower numerics.dt_fraction, manufacture.needle_speed_m_s or the loading"
+        " rate (ncf2lammps check prints the stability margin)",
+    ),
+)
 _HALT = re.compile(r"fix-id guard_(\w+) met on step (\d+) with value (\S+)")
 _ADVICE = {
     "speed": (
@@ -122,19 +138,10 @@ class Engine:
                     f"guard '{halt.group(1)}' at step {halt.group(2)} (value {halt.group(3)}):"
                     f" {what}; {advice}"
                 ) from None
-            if "Lost atoms" in message or ("Bond atoms" in message and "missing" in message):
-                raise UnstableRunError(
-                    f"lost-atoms guard at step {self.step}: {message}; beads flew apart or left"
-                    " the box: lower numerics.dt_fraction or the loading rate (ncf2lammps check"
-                    " prints the stability margin)"
-                ) from None
-            if "Particle outside surface of region" in message:
-                raise UnstableRunError(
-                    f"wall guard at step {self.step}: a bead crossed a wall (a needle or a"
-                    " plate) within one step (LAMMPS: particle outside surface of region): the"
-                    " integration is unstable or the wall moves too fast: lower numerics.dt_fraction, manufacture.needle_speed_m_s"
-                    " or the loading rate (ncf2lammps check prints the stability margin)"
-                ) from None
+            for pattern, diagnosis in _LAMMPS_FAILURES:
+                if pattern.search(message):
+                    diagnosis = diagnosis.format(step=self.step, message=message)
+                    raise UnstableRunError(diagnosis) from None
             command = line.split()[0] if line.split() else line
             raise EngineError(f"LAMMPS error in '{command}': {message}") from None
 
