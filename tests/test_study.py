@@ -18,6 +18,7 @@ from ncf2lammps.orchestration.study import (
     KNOBS,
     _write_tables,
     ensemble_spread,
+    paired_settings,
     study,
     study_grid,
 )
@@ -132,6 +133,49 @@ def test_seed_points_form_an_ensemble_with_mean_and_sample_spread(seed_knob):
     assert (mean, low, high) == (np.mean(values), min(values), max(values))
     assert std == pytest.approx(np.std(values, ddof=1))
     assert len(by_rate[0.1]["seeds"]) == 2
+
+
+def test_settings_are_compared_seed_by_seed_where_the_grid_holds_seeds(tmp_path):
+    """Replicas 1 and 2 differ by 5 % in F_N(45); a rate moves each replica by 2 % (within
+    3 %), another by 2 % on replica 1 and 4 % on replica 2 (not within). Compared point by
+    point against replica 1's reference, replica 2's points all read > 3 %; paired by seed,
+    the 2 % setting is the fastest within 3 %, at the ratio of the mean wall times over the
+    paired seeds. A grid of seeds alone names no fastest point."""
+    spec = tiny_spec()
+    vary = [
+        ("numerics.perturbation_seed", [1, 2, 1, 2, 1, 2]),
+        ("shear.inertial_number", [0.025, 0.025, 0.05, 0.05, 0.1, 0.1]),
+    ]
+    points, reference = study_grid(spec, vary, zipped=True)
+    force = {(1, 0.025): 50.0, (2, 0.025): 52.5, (1, 0.05): 51.0, (2, 0.05): 53.55}
+    force |= {(1, 0.1): 51.0, (2, 0.1): 54.6}
+    wall = {0.025: 400.0, 0.05: 200.0, 0.1: 100.0}
+    rows = []
+    for p in points:
+        seed, rate = p.knobs["numerics.perturbation_seed"], p.knobs["shear.inertial_number"]
+        rows.append(
+            {"point": p.label, **p.knobs, "status": "ok", "steps": 1, "max_kinetic_ratio": 0.0}
+            | {"force_at_45deg_N_per_m": force[seed, rate], "wall_s": wall[rate] + seed}
+            | {"max_kinetic_stress_ratio": 0.001, "quasi_static": True}
+        )
+    outputs = [("force_at_45deg_N_per_m", "F_N")]
+    settings = paired_settings(rows, list(points[0].knobs), outputs, reference)
+    by_rate = {s["knobs"]["shear.inertial_number"]: s for s in settings}
+    assert set(by_rate) == {0.05, 0.1} and by_rate[0.05]["seeds"] == [1, 2]
+    np.testing.assert_allclose(by_rate[0.05]["errors"], [0.02, 0.02], rtol=1e-12)
+    np.testing.assert_allclose(by_rate[0.1]["errors"], [0.02, 0.04], rtol=1e-12)
+    assert (by_rate[0.05]["wall_s"], by_rate[0.05]["reference_wall_s"]) == (201.5, 401.5)
+
+    _write_tables(tmp_path, spec, points, reference, rows, ["shear"], 0.03)
+    text = (tmp_path / "study.md").read_text()
+    assert "Fastest point" not in text
+    fastest = next(line for line in text.splitlines() if line.startswith("Fastest setting"))
+    assert "**shear.inertial_number=0.05** (2 seeds)" in fastest and "1/1.99 of" in fastest
+
+    points, reference = study_grid(spec, [("numerics.perturbation_seed", [1, 2])])
+    _write_tables(tmp_path, spec, points, reference, rows[:2], ["shear"], 0.03)
+    text = (tmp_path / "study.md").read_text()
+    assert "no fastest point is named" in text and "Fastest" not in text
 
 
 def test_bad_knob_or_value_is_one_line_exit_2(tmp_path):

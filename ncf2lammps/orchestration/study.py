@@ -16,7 +16,9 @@ Stages of :func:`study`:
 3. the table: each output (:data:`OUTPUTS`), its relative error against the reference, the
    largest error, wall time, steps, whether the tests passed their quasi-static check, the
    Pareto front (no faster point is as accurate) and the fastest quasi-static point within the
-   tolerance: ``study.csv``, ``study.md`` and ``study.png``, written last.
+   tolerance; where the grid holds seeds (:data:`ENSEMBLE_KNOBS`), settings are compared
+   seed by seed instead (:func:`paired_settings`) and the seeds' spread is added:
+   ``study.csv``, ``study.md`` and ``study.png``, written last.
 """
 
 from __future__ import annotations
@@ -54,6 +56,7 @@ __all__ = [
     "OUTPUTS",
     "StudyPoint",
     "ensemble_spread",
+    "paired_settings",
     "parse_vary",
     "study",
     "study_grid",
@@ -215,6 +218,47 @@ def ensemble_spread(rows: list[dict], knobs: Sequence[str], outputs) -> list[dic
         ]
         spreads.append({"knobs": dict(zip(others, key, strict=True)), "seeds": seeds, **stats})
     return spreads
+
+
+def paired_settings(rows: list[dict], knobs: Sequence[str], outputs, reference: int) -> list[dict]:
+    """Every setting of the knobs other than :data:`ENSEMBLE_KNOBS` compared with the
+    reference point's setting seed by seed, over the seeds both finished: one dict per other
+    setting with ``knobs`` (its values), ``seeds``, ``errors`` (per seed, the largest
+    ``|x - x_ref| / |x_ref|`` over the outputs against the reference setting's point of that
+    seed), ``wall_s`` and ``reference_wall_s`` (means over those seeds, s) and ``quasi_static``
+    (every paired point of the setting passed its check). Settings sharing no seed with the
+    reference setting are left out."""
+    others = [k for k in knobs if k not in ENSEMBLE_KNOBS]
+    seed_knobs = [k for k in knobs if k in ENSEMBLE_KNOBS]
+    by_setting: dict[tuple, dict[tuple, dict]] = {}
+    for row in rows:
+        if row["status"].startswith("ok"):
+            setting = tuple(row[k] for k in others)
+            by_setting.setdefault(setting, {})[tuple(row[k] for k in seed_knobs)] = row
+    reference_setting = tuple(rows[reference][k] for k in others)
+    base = by_setting.get(reference_setting, {})
+    attrs = [attr for attr, _ in outputs]
+    compared = []
+    for setting, members in by_setting.items():
+        seeds = [seed for seed in members if seed in base]
+        if setting == reference_setting or not seeds:
+            continue
+        errors = []
+        for seed in seeds:
+            values = np.array([members[seed].get(a, np.nan) for a in attrs], dtype=float)
+            ref = np.array([base[seed].get(a, np.nan) for a in attrs], dtype=float)
+            errors.append(float(np.max(np.abs(values - ref) / np.abs(ref))))
+        compared.append(
+            {
+                "knobs": dict(zip(others, setting, strict=True)),
+                "seeds": [seed[0] if len(seed) == 1 else seed for seed in seeds],
+                "errors": errors,
+                "wall_s": float(np.mean([members[s]["wall_s"] for s in seeds])),
+                "reference_wall_s": float(np.mean([base[s]["wall_s"] for s in seeds])),
+                "quasi_static": all(members[s]["quasi_static"] for s in seeds),
+            }
+        )
+    return compared
 
 
 def _split_tables(spec_toml: str) -> tuple[dict, dict]:
@@ -498,8 +542,10 @@ def _markdown(spec, table: _Table, rows, reference: int, scenes, tolerance: floa
                 "yes" if table.front[i] else "",
             ]
         lines.append("| " + " | ".join(cells) + " |")
-    lines += ["", *_fastest_lines(table, rows, reference, tolerance)]
-    if set(ENSEMBLE_KNOBS) & set(knobs):
+    if not set(ENSEMBLE_KNOBS) & set(knobs):
+        lines += ["", *_fastest_lines(table, rows, reference, tolerance)]
+    else:
+        lines += ["", *_paired_lines(rows, knobs, outputs, reference, tolerance)]
         lines += ["", *_ensemble_lines(rows, knobs, outputs)]
     return "\n".join([*lines, "", "![error against wall time](study.png)", ""])
 
@@ -534,6 +580,56 @@ def _fastest_lines(table: _Table, rows, reference: int, tolerance: float) -> lis
             " not counted.",
         ]
     return lines
+
+
+def _paired_lines(rows, knobs, outputs, reference: int, tolerance: float) -> list[str]:
+    """study.md's comparison of settings where the grid holds seeds: each setting against the
+    reference setting replica by replica (:func:`paired_settings`), and the fastest setting
+    within the tolerance on every output of every paired seed whose tests were all
+    quasi-static; a grid of seeds alone compares nothing."""
+    if all(k in ENSEMBLE_KNOBS for k in knobs):
+        return [
+            "Every point is one setting with another seed: their differences from the reference"
+            " are the ensemble's scatter (below), not an error, so no fastest point is named."
+        ]
+    settings = paired_settings(rows, knobs, outputs, reference)
+    lines = [
+        "## Settings paired by seed",
+        "",
+        "Each setting against the reference setting's point of the same seed (the errors of"
+        " the table above also hold the scatter between seeds); wall times are means over the"
+        " paired seeds.",
+        "",
+        "| setting | paired seeds | largest error per seed | mean wall (s) | reference's mean"
+        " wall (s) | quasi-static |",
+        "|---|---|---|---|---|---|",
+    ]
+    for s in settings:
+        lines.append(
+            f"| {_setting_label(s['knobs'])} | {', '.join(str(x) for x in s['seeds'])} |"
+            f" {', '.join(f'{e:.2%}' for e in s['errors'])} | {s['wall_s']:.0f} |"
+            f" {s['reference_wall_s']:.0f} | {'yes' if s['quasi_static'] else '**no**'} |"
+        )
+    within = [s for s in settings if s["quasi_static"] and max(s["errors"]) <= tolerance]
+    lines.append("")
+    if not within:
+        lines.append(
+            f"No quasi-static setting is within {tolerance:.0%} of the reference setting on every"
+            " output of every paired seed."
+        )
+        return lines
+    best = min(within, key=lambda s: s["wall_s"] / s["reference_wall_s"])
+    lines.append(
+        f"Fastest setting within {tolerance:.0%} on every output of every paired seed and"
+        f" quasi-static: **{_setting_label(best['knobs'])}** ({len(best['seeds'])} seeds),"
+        f" {best['wall_s']:.0f} s = 1/{best['reference_wall_s'] / best['wall_s']:.3g} of the"
+        f" reference setting's {best['reference_wall_s']:.0f} s over the same seeds."
+    )
+    return lines
+
+
+def _setting_label(setting: dict) -> str:
+    return ", ".join(f"{k}={v}" for k, v in setting.items())
 
 
 def _ensemble_lines(rows, knobs, outputs) -> list[str]:
