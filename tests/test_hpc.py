@@ -20,6 +20,7 @@ import sys
 from pathlib import Path
 
 import h5py
+import numpy as np
 import pytest
 from conftest import case_spec, checkpoint_step, copy_run, kill_after_checkpoint
 
@@ -27,6 +28,7 @@ from ncf2lammps import run_scenes
 from ncf2lammps.io.results import read_results
 from ncf2lammps.io.spectoml import write_spec
 from ncf2lammps.orchestration.run import mpiexec
+from ncf2lammps.scenes.shear import SNAPSHOT_DEG
 
 FAST = {
     "compaction": {"inertial_number": 0.1, "final_fvf": 0.35},
@@ -39,13 +41,17 @@ def fast_spec():
     return case_spec("hpt310-coarse").replace(**FAST)
 
 
+def last_quarter_force(shear: dict) -> float:
+    """Mean F_N (N/m) over the last quarter of a shear group's angle range."""
+    last = shear["angle_deg"] >= 0.75 * shear["attrs"]["final_angle_deg"]
+    return float(shear["force_N_per_m"][last].mean())
+
+
 def figures(results: dict) -> tuple[float, float]:
     """(thickness at 1 kPa in mm, mean F_N over the last quarter of the angle range in N/m)."""
-    shear = results["shear"]
-    last = shear["angle_deg"] >= 0.75 * shear["attrs"]["final_angle_deg"]
     return (
         results["compaction"]["attrs"]["thickness_at_1kPa_mm"],
-        float(shear["force_N_per_m"][last].mean()),
+        last_quarter_force(results["shear"]),
     )
 
 
@@ -152,23 +158,59 @@ def test_resumed_run_ends_within_1_percent_of_an_unbroken_run(
     )
 
 
-@pytest.fixture(scope="module")
-def compaction_killed_and_resumed(tmp_path_factory, coarse_manufactured):
-    """Folder of a compaction (from a copy of the shared manufactured cell) killed (SIGKILL) at
-    its first checkpoint, then resumed; and whether it was still running when killed."""
-    tmp_path = tmp_path_factory.mktemp("killed-compaction")
-    folder = copy_run(coarse_manufactured, tmp_path / "run")
+def _test_killed_and_resumed(tmp_path_factory, manufactured, spec, scene: str, first_step: int):
+    """Folder of a test ``scene`` of ``spec`` (from a copy of the shared manufactured cell)
+    killed (SIGKILL) at its first checkpoint at or past ``first_step``, then resumed; and
+    whether it was still running when killed."""
+    tmp_path = tmp_path_factory.mktemp(f"killed-{scene}")
+    folder = copy_run(manufactured, tmp_path / "run")
     spec_file = tmp_path / "spec.toml"
-    write_spec(spec_file, fast_spec())
+    write_spec(spec_file, spec)
     script = (
         "from ncf2lammps import load_spec, run_scenes\n"
-        f"run_scenes(load_spec({str(spec_file)!r}), {str(folder)!r}, ['compaction'])\n"
+        f"run_scenes(load_spec({str(spec_file)!r}), {str(folder)!r}, [{scene!r}])\n"
     )
-    start = read_results(folder / "results.h5")["manufacture"]["attrs"]["steps"]
     command = [sys.executable, "-c", script]
-    running = kill_after_checkpoint(command, tmp_path, folder.name, "compaction", start + 1)
-    run_scenes(fast_spec(), folder, ["compaction"], resume=True)
+    running = kill_after_checkpoint(command, tmp_path, folder.name, scene, first_step)
+    run_scenes(spec, folder, [scene], resume=True)
     return folder, running
+
+
+@pytest.fixture(scope="module")
+def compaction_killed_and_resumed(tmp_path_factory, coarse_manufactured):
+    start = read_results(coarse_manufactured / "results.h5")["manufacture"]["attrs"]["steps"]
+    return _test_killed_and_resumed(
+        tmp_path_factory, coarse_manufactured, fast_spec(), "compaction", start + 1
+    )
+
+
+#: Two shear segments (to the 22.5 deg snapshot, then to 25 deg), so that a kill in the second
+#: resumes a deck that defined fix deform twice.
+SEGMENTED = {"shear": {**FAST["shear"], "final_angle_deg": 25.0}}
+
+
+@pytest.fixture(scope="module")
+def segmented_shear(tmp_path_factory, coarse_manufactured):
+    """Shear results of the two-segment fast shear, unbroken, from the shared manufactured
+    cell."""
+    folder = copy_run(coarse_manufactured, tmp_path_factory.mktemp("segmented") / "run")
+    return read_results(run_scenes(fast_spec().replace(**SEGMENTED), folder, ["shear"]))["shear"]
+
+
+@pytest.fixture(scope="module")
+def shear_killed_and_resumed(tmp_path_factory, coarse_manufactured, reference):
+    """The two-segment fast shear killed at its first checkpoint in the second segment (its
+    steps scaled from the 20 deg run's at the same rate; the shear counts its steps from 0),
+    then resumed."""
+    steps_per_deg = reference["shear"]["attrs"]["steps"] / FAST["shear"]["final_angle_deg"]
+    past_first_segment = int(steps_per_deg * SNAPSHOT_DEG[0]) + 1
+    return _test_killed_and_resumed(
+        tmp_path_factory,
+        coarse_manufactured,
+        fast_spec().replace(**SEGMENTED),
+        "shear",
+        past_first_segment,
+    )
 
 
 @pytest.mark.lammps
@@ -190,6 +232,38 @@ def test_a_compaction_resumed_mid_run_follows_the_unbroken_one(
     for key in ("thickness_at_1kPa_mm", "thickness_at_18kPa_mm"):
         assert resumed[key] == pytest.approx(unbroken[key], rel=0.01), key
     assert resumed["max_kinetic_stress_ratio"] <= 2.0 * unbroken["max_kinetic_stress_ratio"]
+
+
+@pytest.mark.lammps
+def test_a_shear_resumed_mid_run_follows_the_unbroken_one(
+    shear_killed_and_resumed, segmented_shear
+):
+    """A shear killed in its second segment resumes from the box it had: fix deform keeps its
+    start box in the restart file and hands it to every definition before the first run, so
+    the deck's start angle g0 must be the journaled one (evaluated afresh, the box jumped back
+    to the segment's start and F_N fell from 4.9 to 0.004 N/m). Every recorded box is the
+    picture frame's of its angle g, xy = Lb sin g and ly = Lb cos g (docs/design.md), within
+    1e-9 Lb; no unused restart state; the angles run on without a gap or a repeat; F_N over the
+    last quarter of the angle range within 2 % of the unbroken run (runs that differ by
+    round-off scatter by ~1 %, module docstring); the largest kinetic stress ratio within 2 x
+    the unbroken one's."""
+    folder, running = shear_killed_and_resumed
+    assert running
+    assert "Unused restart file" not in (folder / "log.shear.lammps").read_text()
+    box = np.loadtxt(folder / "shear.box.txt")
+    angle, xy, ly = box[:, 1], box[:, 2], box[:, 4]
+    side = ly[0] / np.cos(angle[0])
+    np.testing.assert_allclose(xy, side * np.sin(angle), rtol=0, atol=1e-9 * side)
+    np.testing.assert_allclose(ly, side * np.cos(angle), rtol=0, atol=1e-9 * side)
+    resumed = read_results(folder / "results.h5")["shear"]
+    assert resumed["attrs"]["resumed"]
+    steps = np.diff(resumed["angle_deg"])
+    assert np.all(steps > 0) and steps.max() <= 1.5 * np.median(steps)
+    assert resumed["angle_deg"][-1] == pytest.approx(segmented_shear["angle_deg"][-1], rel=1e-3)
+    force = last_quarter_force(resumed)
+    assert force == pytest.approx(last_quarter_force(segmented_shear), rel=0.02)
+    ratio = resumed["attrs"]["max_kinetic_stress_ratio"]
+    assert ratio <= 2.0 * segmented_shear["attrs"]["max_kinetic_stress_ratio"]
 
 
 def test_resume_refuses_another_spec_and_bad_ranks(tmp_path):

@@ -24,7 +24,7 @@
                 if every and step % every == 0:
                     write_restart, record the checkpoint; pre = "yes"
         elif line is not empty after its comment is cut:
-            journal it as LAMMPS expands it (a "# resume: live" line: as written); run it
+            journal it as LAMMPS expands it; run it
 
 Any other ``run`` (``run 0``, ``run N upto``, ...) is a command like the others. Relative paths
 resolve against the process's working directory.
@@ -45,8 +45,6 @@ __all__ = ["run_deck"]
 
 _STAGE = re.compile(r"^#\s*stage:\s*([\w-]+)")
 _RUN = re.compile(r"^run\s+(\d+)\s*$")
-#: Marks a deck line that must be evaluated afresh when a run is resumed (not journaled values).
-_LIVE = "# resume: live"
 _HALT = re.compile(
     r"^fix\s+(\S+)\s+\S+\s+halt\s+(\d+)\s+v_(\w+)\s+(<=|>=|==|!=|<|>)\s+"
     r"([-+0-9.eE]+)\s+error\s+continue\b"
@@ -154,7 +152,7 @@ def _deck(engine, lines, chunk, on_stage, on_chunk, journal) -> None:
             continue
         if journal is not None:
             expanded = engine.expand(line)
-            journal.command(number, raw.strip() if _LIVE in raw else expanded)
+            journal.command(number, expanded)
             line = expanded
         engine.command(line)
         halts.observe(line)

@@ -211,7 +211,7 @@ def replay(
 
     Output files are first cut back to the checkpoint's step. The commands journaled before
     that run are run again as LAMMPS expanded them the first time (every ``$(...)`` keeps its
-    original value; lines marked ``# resume: live`` are evaluated afresh), with
+    original value), with
     ``read_restart`` of the checkpoint for the first read and without any run (``run 0``
     included) and the commands that changed or wrote the state (:data:`_NOT_REPLAYED`);
     internal variables are defined with their checkpointed values; ``fix ave/time``/``print`` files and dumps are
