@@ -184,9 +184,10 @@ def compaction_killed_and_resumed(tmp_path_factory, coarse_manufactured):
     )
 
 
-#: Two shear segments (to the 22.5 deg snapshot, then to 25 deg), so that a kill in the second
-#: resumes a deck that defined fix deform twice.
-SEGMENTED = {"shear": {**FAST["shear"], "final_angle_deg": 25.0}}
+def segmented_spec():
+    """The fast spec sheared in two segments (to the 22.5 deg snapshot, then to 25 deg), so that
+    a kill in the second resumes a deck that defined fix deform twice."""
+    return fast_spec().replace(shear={**FAST["shear"], "final_angle_deg": 25.0})
 
 
 @pytest.fixture(scope="module")
@@ -194,7 +195,7 @@ def segmented_shear(tmp_path_factory, coarse_manufactured):
     """Shear results of the two-segment fast shear, unbroken, from the shared manufactured
     cell."""
     folder = copy_run(coarse_manufactured, tmp_path_factory.mktemp("segmented") / "run")
-    return read_results(run_scenes(fast_spec().replace(**SEGMENTED), folder, ["shear"]))["shear"]
+    return read_results(run_scenes(segmented_spec(), folder, ["shear"]))["shear"]
 
 
 @pytest.fixture(scope="module")
@@ -207,7 +208,7 @@ def shear_killed_and_resumed(tmp_path_factory, coarse_manufactured, reference):
     return _test_killed_and_resumed(
         tmp_path_factory,
         coarse_manufactured,
-        fast_spec().replace(**SEGMENTED),
+        segmented_spec(),
         "shear",
         past_first_segment,
     )

@@ -214,8 +214,8 @@ def replay(
     original value), with
     ``read_restart`` of the checkpoint for the first read and without any run (``run 0``
     included) and the commands that changed or wrote the state (:data:`_NOT_REPLAYED`);
-    internal variables are defined with their checkpointed values; ``fix ave/time``/``print`` files and dumps are
-    appended to. ``on_command`` sees each command run again.
+    internal variables are defined with their checkpointed values; ``fix ave/time``/``print``
+    files and dumps are appended to. ``on_command`` sees each command run again.
     """
     state = journal.load()
     step = int(state["step"])

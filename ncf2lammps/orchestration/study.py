@@ -193,17 +193,24 @@ def _reference_value(end: str, values: list):
     return given[0] if end == "first" else (min if end == "min" else max)(given)
 
 
-def ensemble_spread(rows: list[dict], knobs: Sequence[str], outputs) -> list[dict]:
-    """Mean and spread over :data:`ENSEMBLE_KNOBS` of every group of finished points equal in
-    all other knobs: one dict per group with 2 or more seeds, holding ``knobs`` (the other
-    knobs' values), ``seeds`` (each member's seed, a tuple where both ensemble knobs vary),
-    and per output attribute ``(mean, sample std, min, max)``."""
+def _settings(rows: list[dict], knobs: Sequence[str]) -> tuple[list, list, dict[tuple, list]]:
+    """(the knobs other than :data:`ENSEMBLE_KNOBS`, the ensemble knobs, the finished rows
+    grouped by their values of the other knobs)."""
     others = [k for k in knobs if k not in ENSEMBLE_KNOBS]
     seed_knobs = [k for k in knobs if k in ENSEMBLE_KNOBS]
     groups: dict[tuple, list[dict]] = {}
     for row in rows:
         if row["status"].startswith("ok"):
             groups.setdefault(tuple(row[k] for k in others), []).append(row)
+    return others, seed_knobs, groups
+
+
+def ensemble_spread(rows: list[dict], knobs: Sequence[str], outputs) -> list[dict]:
+    """Mean and spread over :data:`ENSEMBLE_KNOBS` of every group of finished points equal in
+    all other knobs: one dict per group with 2 or more seeds, holding ``knobs`` (the other
+    knobs' values), ``seeds`` (each member's seed, a tuple where both ensemble knobs vary),
+    and per output attribute ``(mean, sample std, min, max)``."""
+    others, seed_knobs, groups = _settings(rows, knobs)
     spreads = []
     for key, members in groups.items():
         if len(members) < 2:
@@ -228,13 +235,11 @@ def paired_settings(rows: list[dict], knobs: Sequence[str], outputs, reference: 
     seed), ``wall_s`` and ``reference_wall_s`` (means over those seeds, s) and ``quasi_static``
     (every paired point of the setting passed its check). Settings sharing no seed with the
     reference setting are left out."""
-    others = [k for k in knobs if k not in ENSEMBLE_KNOBS]
-    seed_knobs = [k for k in knobs if k in ENSEMBLE_KNOBS]
-    by_setting: dict[tuple, dict[tuple, dict]] = {}
-    for row in rows:
-        if row["status"].startswith("ok"):
-            setting = tuple(row[k] for k in others)
-            by_setting.setdefault(setting, {})[tuple(row[k] for k in seed_knobs)] = row
+    others, seed_knobs, groups = _settings(rows, knobs)
+    by_setting = {
+        setting: {tuple(row[k] for k in seed_knobs): row for row in members}
+        for setting, members in groups.items()
+    }
     reference_setting = tuple(rows[reference][k] for k in others)
     base = by_setting.get(reference_setting, {})
     attrs = [attr for attr, _ in outputs]
@@ -245,9 +250,8 @@ def paired_settings(rows: list[dict], knobs: Sequence[str], outputs, reference: 
             continue
         errors = []
         for seed in seeds:
-            values = np.array([members[seed].get(a, np.nan) for a in attrs], dtype=float)
-            ref = np.array([base[seed].get(a, np.nan) for a in attrs], dtype=float)
-            errors.append(float(np.max(np.abs(values - ref) / np.abs(ref))))
+            values = [[row.get(a, np.nan) for a in attrs] for row in (base[seed], members[seed])]
+            errors.append(float(np.max(relative_errors(values, 0)[1])))
         compared.append(
             {
                 "knobs": dict(zip(others, setting, strict=True)),
@@ -563,7 +567,7 @@ def _fastest_lines(table: _Table, rows, reference: int, tolerance: float) -> lis
         lines.append(
             f"Fastest point within {tolerance:.0%} on every output and quasi-static (every test's"
             f" max kinetic stress ratio within its limit): **{rows[best]['point']}**"
-            f" ({', '.join(f'{k}={rows[best][k]}' for k in knobs)}), {wall[best]:.0f} s ="
+            f" ({_setting_label({k: rows[best][k] for k in knobs})}), {wall[best]:.0f} s ="
             f" 1/{wall[reference] / wall[best]:.3g} of the reference's {wall[reference]:.0f} s."
         )
         faster = agree & ~quasi_static & (wall < wall[best])
@@ -629,6 +633,7 @@ def _paired_lines(rows, knobs, outputs, reference: int, tolerance: float) -> lis
 
 
 def _setting_label(setting: dict) -> str:
+    """``knob=value`` pairs of a setting, comma-separated."""
     return ", ".join(f"{k}={v}" for k, v in setting.items())
 
 
@@ -643,7 +648,7 @@ def _ensemble_lines(rows, knobs, outputs) -> list[str]:
         "",
     ]
     for group in ensemble_spread(rows, knobs, outputs):
-        named = ", ".join(f"{k}={v}" for k, v in group["knobs"].items()) or "all points"
+        named = _setting_label(group["knobs"]) or "all points"
         lines += [f"{named}; seeds {', '.join(str(s) for s in group['seeds'])}:", ""]
         lines += ["| output | mean | std | std / mean | min | max |", "|---|---|---|---|---|---|"]
         for attr, label in outputs:
