@@ -29,6 +29,8 @@ CHECKS = (
     "stitch_tension_error",
     "max_kinetic_stress_ratio",
     "kinetic_stress_limit",
+    "max_kinetic_thickness_error",
+    "kinetic_thickness_error_limit",
     "max_kinetic_ratio",
     "max_plate_speed_m_s",
     "max_shear_rate_deg_us",

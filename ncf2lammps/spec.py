@@ -531,10 +531,11 @@ def _kinetic_stress_target():
     return _f(
         KINETIC_STRESS_LIMIT / 4.0,
         1e-6,
-        KINETIC_STRESS_LIMIT,
+        1.0,
         unit="-",
         source="kinetic stress ratio above which adaptive loading brakes: a quarter of the 1 %"
-        " limit, so that a burst within one interval stays below it (docs/loading.md)",
+        " limit, so that a burst within one interval stays below it; 1 never brakes before the"
+        " kinetic stress equals the stress (docs/loading.md)",
     )
 
 

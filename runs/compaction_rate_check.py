@@ -26,6 +26,7 @@ for factor in (1.0, 0.5):
     rows.append((inertial, attrs["thickness_at_1kPa_mm"], attrs["thickness_at_18kPa_mm"]))
     print(
         f"I = {inertial:g}: t@1kPa {rows[-1][1]:.5f} mm, t@18kPa {rows[-1][2]:.5f} mm,"
+        f" max kinetic thickness error {attrs['max_kinetic_thickness_error']:.2g},"
         f" max kinetic stress ratio {attrs['max_kinetic_stress_ratio']:.2g},"
         f" max KE/W {attrs['max_kinetic_ratio']:.2g}"
     )

@@ -7,7 +7,7 @@ import pytest
 from conftest import assert_loading_follows_its_law, case_spec, copy_run
 
 from ncf2lammps import build, prepare, run, run_scenes
-from ncf2lammps.analysis.compaction import CompactionCurve, smooth
+from ncf2lammps.analysis.compaction import CompactionCurve, first_crossings, smooth
 from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
 from ncf2lammps.scenes import SCENES
@@ -37,8 +37,13 @@ def test_contract_names_and_lengths(compacted):
         "wall_s",
         "steps",
         "max_kinetic_ratio",
+        "max_kinetic_thickness_error",
+        "kinetic_thickness_error_limit",
     ):
         assert key in group["attrs"]
+    # The check is the largest record error past the reference pressure (1 kPa).
+    errors = group["kinetic_thickness_error"][group["pressure_smoothed_kPa"] >= 1.0]
+    assert group["attrs"]["max_kinetic_thickness_error"] >= np.nanmax(errors)
     assert group["attrs"]["stopped_by"] == "final_fvf"
     # With end = "final_fvf" the deck has no pressure stop.
     assert "final_pressure" not in (folder / "decks" / "in.compaction.lmp").read_text()
@@ -193,3 +198,56 @@ def test_stiffening_exponent_of_a_power_law_curve():
         window=1,
     ).compute()
     assert curve.stiffening_exponent(1.0, 18.0) == pytest.approx(b, rel=1e-6)
+
+
+def test_first_crossings_match_the_record_by_record_search():
+    """On a noisy, non-monotonic record the vectorised crossings equal the scalar definition:
+    the first record at or above the level, linear from the record before it (exact)."""
+    rng = np.random.default_rng(3)
+    x = np.linspace(900.0, 400.0, 200)
+    pressure = np.linspace(0.0, 30.0, 200) + rng.normal(0.0, 1.5, 200)
+    levels = np.concatenate([rng.uniform(-2.0, 35.0, 300), [pressure[0], pressure.max()]])
+
+    def by_record(level):
+        above = np.flatnonzero(pressure >= level)
+        if len(above) == 0:
+            return np.nan
+        i = above[0]
+        if i == 0:
+            return x[0]
+        return x[i - 1] + (level - pressure[i - 1]) / (pressure[i] - pressure[i - 1]) * (
+            x[i] - x[i - 1]
+        )
+
+    expected = [by_record(level) for level in levels]
+    assert first_crossings(x, pressure, levels) == pytest.approx(
+        expected, rel=0, abs=0, nan_ok=True
+    )
+
+
+def test_kinetic_thickness_error_of_a_power_law_curve():
+    """On Vf = a P^b the local exponent is b at every pressure (secant of a power law; 1e-5 for
+    the linear interpolation between records), the kinetic thickness error of a ratio Q is Q b, and a pressure off by Q = 1 % moves the
+    thickness read at it by that much to first order: |(1 + Q)^-b - 1| = Q b (1 - (1 + b) Q / 2
+    + ...), within 1 %."""
+    b, a, per_area = 0.15, 0.25, 300.0
+    pressure = np.geomspace(0.1, 100.0, 4000)
+    gap = per_area / (a * pressure**b)
+    zeros = np.zeros(len(gap))
+    curve = CompactionCurve(
+        gap,
+        pressure,
+        per_area,
+        force_top=zeros,
+        force_bottom=zeros,
+        kinetic=zeros,
+        potential=zeros,
+        reference_pressure=1.0,
+        window=1,
+    ).compute()
+    assert curve.local_stiffening_exponent([1.0, 5.0, 18.0, 99.0]) == pytest.approx(b, rel=1e-5)
+    ratio = np.full(len(gap), 0.01)
+    assert curve.kinetic_thickness_error(ratio) == pytest.approx(0.01 * b, rel=1e-5)
+    for level in (1.0, 18.0):
+        shift = 1.0 - curve.thickness_at(level * 1.01) / curve.thickness_at(level)
+        assert shift == pytest.approx(0.01 * b, rel=0.01)

@@ -14,7 +14,7 @@ from conftest import case_spec
 from ncf2lammps import prepare
 from ncf2lammps.orchestration.study import parse_vary
 from ncf2lammps.scenes import SCENES, render_deck
-from ncf2lammps.scenes.loading import SAMPLES, control_interval
+from ncf2lammps.scenes.loading import SAMPLES, control_interval, loading_attrs, quasi_static
 from ncf2lammps.spec import SpecError
 
 
@@ -64,3 +64,20 @@ def test_vary_takes_numbers_and_words():
     )
     with pytest.raises(SpecError, match="numbers or words"):
         parse_vary("shear.loading=1..2")
+
+
+def test_each_test_is_checked_on_the_error_of_its_own_output():
+    """The shear's check is its kinetic stress ratio Q (its output is that stress); the
+    compaction's is the thickness error Q b, so its Q alone carries no limit; both 1 %; a check
+    is the largest over the measured records only."""
+    spec = case_spec("hpt310-coarse")
+    ratio = [0.5, 0.02, 0.004]
+    measured = [False, True, True]
+    shear = loading_attrs(spec.shear, ratio, measured)
+    assert shear["max_kinetic_stress_ratio"] == 0.02 and shear["kinetic_stress_limit"] == 0.01
+    assert not quasi_static(shear)
+    compaction = loading_attrs(spec.compaction, ratio, measured, [5.0, 0.002, 0.0004])
+    assert compaction["max_kinetic_thickness_error"] == 0.002
+    assert "kinetic_stress_limit" not in compaction
+    assert quasi_static(compaction)
+    assert not quasi_static(compaction | {"max_kinetic_thickness_error": 0.0101})

@@ -14,6 +14,7 @@ __all__ = [
     "PAPER_MODEL_THICKNESS_1KPA_MM",
     "CompactionCurve",
     "first_crossing",
+    "first_crossings",
     "smooth",
 ]
 
@@ -33,17 +34,29 @@ def smooth(values: np.ndarray, window: int) -> np.ndarray:
     return total / count
 
 
+def first_crossings(x: np.ndarray, pressure: np.ndarray, levels) -> np.ndarray:
+    """``x`` (N,) where the record ``pressure`` (N,) first reaches each of ``levels`` (L,),
+    (L,): linear between the two records around it (``x[0]`` if the first already does); NaN
+    where it never does."""
+    x = np.asarray(x, dtype=float)
+    pressure = np.asarray(pressure, dtype=float)
+    levels = np.atleast_1d(np.asarray(levels, dtype=float))
+    crossing = np.full(levels.shape, np.nan)
+    if len(pressure) == 0:
+        return crossing
+    first = np.searchsorted(np.fmax.accumulate(pressure), levels, side="left")
+    crossing[first == 0] = x[0]
+    inner = (first > 0) & (first < len(pressure))
+    i = first[inner]
+    weight = (levels[inner] - pressure[i - 1]) / (pressure[i] - pressure[i - 1])
+    crossing[inner] = x[i - 1] + weight * (x[i] - x[i - 1])
+    return crossing
+
+
 def first_crossing(x: np.ndarray, pressure: np.ndarray, level: float) -> float:
-    """``x`` (N,) where the record ``pressure`` (N,) first reaches ``level``, linear between
-    the two records around it (``x[0]`` if the first already does); NaN if it never does."""
-    above = np.flatnonzero(pressure >= level)
-    if len(above) == 0:
-        return float("nan")
-    i = int(above[0])
-    if i == 0:
-        return float(x[0])
-    weight = (level - pressure[i - 1]) / (pressure[i] - pressure[i - 1])
-    return float(x[i - 1] + weight * (x[i] - x[i - 1]))
+    """``x`` (N,) where the record ``pressure`` (N,) first reaches ``level``
+    (:func:`first_crossings`); NaN if it never does."""
+    return float(first_crossings(x, pressure, level)[0])
 
 
 class CompactionCurve:
@@ -67,7 +80,8 @@ class CompactionCurve:
     ``max_kinetic_ratio`` (largest kinetic energy / W once loaded); ``plate_force_imbalance``
     (travel-weighted ``|F_top - F_bottom| / F`` once loaded: 0 for quasi-static plates);
     ``energy_balance_residual`` (:func:`~ncf2lammps.analysis.energy.energy_balance_residual`);
-    :meth:`thickness_at`, :meth:`stiffening_exponent`.
+    :meth:`thickness_at`, :meth:`stiffening_exponent`, :meth:`local_stiffening_exponent`,
+    :meth:`kinetic_thickness_error`.
     """
 
     def __init__(
@@ -126,3 +140,23 @@ class CompactionCurve:
     def thickness_at(self, pressure: float) -> float:
         """Gap (mm) where the smoothed pressure first reaches ``pressure`` (kPa); NaN if never."""
         return first_crossing(self.gap_mm, self.smoothed, pressure)
+
+    def local_stiffening_exponent(self, pressure) -> np.ndarray:
+        """Local exponent ``b = -d ln t / d ln P`` of the smoothed curve at each ``pressure``
+        (L,) (kPa), (L,): the secant over a factor 2 in pressure, between the thicknesses
+        where the curve first reaches ``P / sqrt 2`` and ``sqrt 2 P`` (capped at the highest
+        pressure it reaches)."""
+        pressure = np.asarray(pressure, dtype=float)
+        low = pressure / math.sqrt(2.0)
+        high = np.minimum(pressure * math.sqrt(2.0), np.max(self.smoothed, initial=-np.inf))
+        thickness = first_crossings(self.gap_mm, self.smoothed, np.concatenate([low, high]))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.log(thickness[: len(low)] / thickness[len(low) :]) / np.log(high / low)
+
+    def kinetic_thickness_error(self, stress_ratio) -> np.ndarray:
+        """Relative error of the thickness read at each record's pressure that the record's
+        kinetic stress ratio ``Q`` (N,) can cause, (N,): a pressure off by the share Q moves the
+        thickness at it by ``Q b``, with b the :meth:`local_stiffening_exponent` at the
+        smoothed pressure (floored at the reference pressure, as Q's stress is)."""
+        stress = np.maximum(self.smoothed, self.reference_pressure)
+        return np.asarray(stress_ratio, dtype=float) * self.local_stiffening_exponent(stress)

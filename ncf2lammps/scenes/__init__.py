@@ -6,8 +6,19 @@
 from . import compaction, manufacture, shear
 from .base import Scene, execute
 from .deck import Deck, deck_context, render_deck
+from .loading import QUASI_STATIC_CHECKS, quasi_static
 
-__all__ = ["SCENES", "Deck", "Scene", "applicable_scenes", "deck_context", "execute", "render_deck"]
+__all__ = [
+    "QUASI_STATIC_CHECKS",
+    "SCENES",
+    "Deck",
+    "Scene",
+    "applicable_scenes",
+    "deck_context",
+    "execute",
+    "quasi_static",
+    "render_deck",
+]
 
 #: The scenes in the order a run executes them.
 SCENES: dict[str, Scene] = {

@@ -151,6 +151,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         reference_pressure=units.to_micro(spec.compaction.reference_pressure_kPa, "kPa"),
     ).compute()
     t1, t18 = (curve.thickness_at(p) for p in REPORT_PRESSURES)
+    thickness_error = curve.kinetic_thickness_error(kinetic_ratio)
     attrs = {
         "steps": scene_steps(directory / "compaction.final.txt"),
         "ply_angles_deg": model.ply_angles_deg,
@@ -159,7 +160,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         "fvf_at_18kPa": units.from_micro(per_area, "mm") / t18 if math.isfinite(t18) else math.nan,
         "stiffening_exponent": curve.stiffening_exponent(*REPORT_PRESSURES),
         "max_kinetic_ratio": curve.max_kinetic_ratio,
-        **loading_attrs(spec.compaction, kinetic_ratio, curve.loaded),
+        **loading_attrs(spec.compaction, kinetic_ratio, curve.loaded, thickness_error),
         "plate_force_imbalance": curve.plate_force_imbalance,
         "energy_balance_residual": curve.energy_balance_residual,
         "plate_speed_m_s": units.from_micro(plate_speed(spec, model), "m_s"),
@@ -188,6 +189,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         "force_bottom_N": units.from_micro(history["v_force_bottom"][keep], "N"),
         "plate_speed_m_s": units.from_micro(speed, "m_s"),
         "kinetic_stress_ratio": kinetic_ratio,
+        "kinetic_thickness_error": thickness_error,
     }
     return attrs, datasets
 

@@ -5,7 +5,8 @@ A test scene's rate r_I comes from its inertial number ``I = r d sqrt(rho / S_re
 reference pressure S_ref (1 kPa, DIN ISO 5084). Both measure, over each control interval, the
 stress S the test reports (compaction: the plate pressure; shear: the shear stress |F_N| /
 thickness), floored at S_ref, and the kinetic stress ratio ``Q = (2 K / 3 V) / S``: the share
-of the stress that is inertia, the quasi-static check (below :data:`KINETIC_STRESS_LIMIT`, 1 %).
+of the stress that is inertia. The quasi-static check bounds the error Q can cause on the
+test's output (:data:`QUASI_STATIC_CHECKS`) by :data:`KINETIC_STRESS_LIMIT`, 1 %.
 
 Adaptive loading holds the inertial number at S and brakes on Q above its target Q*: after each
 interval the rate is multiplied by ``min(r_I sqrt(S / S_ref) / rate, sqrt(Q* / Q))`` (Q grows
@@ -26,12 +27,14 @@ from ..spec import KINETIC_STRESS_LIMIT, CompactionSpec, ShearSpec
 __all__ = [
     "DOWN",
     "KINETIC_STRESS_LIMIT",
+    "QUASI_STATIC_CHECKS",
     "SAMPLES",
     "UP",
     "LoadingControl",
     "control_interval",
     "loading_attrs",
     "loading_control",
+    "quasi_static",
 ]
 
 #: Largest rise of the rate in one control interval: ten intervals to double it, so that the
@@ -42,6 +45,15 @@ UP = 2.0**0.1
 DOWN = 0.5
 #: Samples of the stress and the kinetic stress in each control interval.
 SAMPLES = 10
+#: The quasi-static checks of the test scenes, (attribute of the largest kinetic error,
+#: attribute of its limit): the relative error the kinetic stress can cause on the test's output
+#: (docs/loading.md). The shear's stress is its output (F_N / thickness), so the error is the
+#: kinetic stress ratio Q itself; the compaction reads a thickness at a pressure, which a
+#: pressure off by Q moves by Q times the curve's local stiffening exponent.
+QUASI_STATIC_CHECKS = (
+    ("max_kinetic_stress_ratio", "kinetic_stress_limit"),
+    ("max_kinetic_thickness_error", "kinetic_thickness_error_limit"),
+)
 
 
 @dataclass(frozen=True)
@@ -97,13 +109,37 @@ def loading_control(
     )
 
 
-def loading_attrs(settings: CompactionSpec | ShearSpec, ratio: np.ndarray, measured) -> dict:
-    """The loading's attributes of a test scene: ``loading`` and its quasi-static check,
-    ``max_kinetic_stress_ratio`` (the largest interval's kinetic stress ratio ``ratio`` (N,)
-    over the ``measured`` records, (N,) bool) against ``kinetic_stress_limit``."""
-    largest = float(np.max(ratio[measured])) if np.any(measured) else math.nan
-    return {
-        "loading": settings.loading,
-        "max_kinetic_stress_ratio": largest,
-        "kinetic_stress_limit": KINETIC_STRESS_LIMIT,
+def loading_attrs(
+    settings: CompactionSpec | ShearSpec,
+    ratio: np.ndarray,
+    measured,
+    thickness_error: np.ndarray | None = None,
+) -> dict:
+    """The loading's attributes of a test scene: ``loading``, ``max_kinetic_stress_ratio`` (the
+    largest interval's kinetic stress ratio ``ratio`` (N,) over the ``measured`` records, (N,)
+    bool) and the quasi-static check (:data:`QUASI_STATIC_CHECKS`): that ratio against
+    ``kinetic_stress_limit``, or, for a test that reads a thickness at a pressure, the error it
+    causes there, ``thickness_error`` (N,): ``max_kinetic_thickness_error`` against
+    ``kinetic_thickness_error_limit``."""
+    attrs = {"loading": settings.loading, "max_kinetic_stress_ratio": _largest(ratio, measured)}
+    if thickness_error is None:
+        return attrs | {"kinetic_stress_limit": KINETIC_STRESS_LIMIT}
+    return attrs | {
+        "max_kinetic_thickness_error": _largest(thickness_error, measured),
+        "kinetic_thickness_error_limit": KINETIC_STRESS_LIMIT,
     }
+
+
+def quasi_static(attrs: dict) -> bool:
+    """Whether a test scene's ``attrs`` pass every quasi-static check they hold."""
+    return all(
+        attrs[value] <= attrs[limit]
+        for value, limit in QUASI_STATIC_CHECKS
+        if value in attrs and limit in attrs
+    )
+
+
+def _largest(values: np.ndarray, measured) -> float:
+    """Largest of ``values`` (N,) over the ``measured`` records ((N,) bool); NaN if none."""
+    values = np.asarray(values, dtype=float)[np.asarray(measured, dtype=bool)]
+    return float(np.max(values)) if len(values) else math.nan
