@@ -19,7 +19,7 @@ from typing import Any
 
 __all__ = [
     "HEXAGONAL_PACKING",
-    "KINETIC_STRESS_LIMIT",
+    "KINETIC_ERROR_LIMIT",
     "LOADINGS",
     "PATTERNS",
     "RANDOM_JAMMING",
@@ -67,9 +67,9 @@ _CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u2028\u2029]")
 SHEAR_SENSES = ("positive", "negative")
 #: How a test scene's loading rate is set (docs/loading.md).
 LOADINGS = ("adaptive", "constant")
-#: Largest kinetic stress ratio (2 K / 3 V over the measured stress) of a quasi-static test:
-#: inertia below 1 % of the stress (docs/design.md §8).
-KINETIC_STRESS_LIMIT = 1e-2
+#: Largest error the beads' kinetic stress (2 K / 3 V) may cause on a quasi-static test's
+#: output: 1 % (docs/design.md §8, docs/loading.md).
+KINETIC_ERROR_LIMIT = 1e-2
 #: Two frame directions (deg) closer than this are one (mirror images, the fibres of 0/90).
 FRAME_TOLERANCE_DEG = 1e-6
 
@@ -529,7 +529,7 @@ def _max_rate_factor():
 def _kinetic_stress_target():
     """``kinetic_stress_target`` of a test scene's adaptive loading (compaction, shear)."""
     return _f(
-        KINETIC_STRESS_LIMIT / 4.0,
+        KINETIC_ERROR_LIMIT / 4.0,
         1e-6,
         1.0,
         unit="-",

@@ -44,7 +44,8 @@ def first_crossings(x: np.ndarray, pressure: np.ndarray, levels) -> np.ndarray:
     crossing = np.full(levels.shape, np.nan)
     if len(pressure) == 0:
         return crossing
-    first = np.searchsorted(np.fmax.accumulate(pressure), levels, side="left")
+    envelope = np.maximum.accumulate(np.where(np.isnan(pressure), -np.inf, pressure))
+    first = np.searchsorted(envelope, levels, side="left")
     crossing[first == 0] = x[0]
     inner = (first > 0) & (first < len(pressure))
     i = first[inner]
@@ -144,19 +145,21 @@ class CompactionCurve:
     def local_stiffening_exponent(self, pressure) -> np.ndarray:
         """Local exponent ``b = -d ln t / d ln P`` of the smoothed curve at each ``pressure``
         (L,) (kPa), (L,): the secant over a factor 2 in pressure, between the thicknesses
-        where the curve first reaches ``P / sqrt 2`` and ``sqrt 2 P`` (capped at the highest
-        pressure it reaches)."""
-        pressure = np.asarray(pressure, dtype=float)
-        low = pressure / math.sqrt(2.0)
-        high = np.minimum(pressure * math.sqrt(2.0), np.max(self.smoothed, initial=-np.inf))
+        where the curve first reaches ``P / sqrt 2`` and ``sqrt 2 P``, the window held within
+        the pressures the curve spans (its first record, its highest). A secant, not the
+        steepest slope inside the window: an estimate where the curve has a knee."""
+        pressure = np.atleast_1d(np.asarray(pressure, dtype=float))
+        low = np.maximum(pressure / math.sqrt(2.0), self.smoothed[0])
+        high = np.minimum(pressure * math.sqrt(2.0), np.max(self.smoothed))
         thickness = first_crossings(self.gap_mm, self.smoothed, np.concatenate([low, high]))
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.log(thickness[: len(low)] / thickness[len(low) :]) / np.log(high / low)
 
     def kinetic_thickness_error(self, stress_ratio) -> np.ndarray:
         """Relative error of the thickness read at each record's pressure that the record's
-        kinetic stress ratio ``Q`` (N,) can cause, (N,): a pressure off by the share Q moves the
-        thickness at it by ``Q b``, with b the :meth:`local_stiffening_exponent` at the
-        smoothed pressure (floored at the reference pressure, as Q's stress is)."""
+        kinetic stress ratio ``Q`` (N,) can cause, (N,), to first order: a pressure off by the
+        share Q moves the thickness at it by ``Q b``, with b the
+        :meth:`local_stiffening_exponent` at the smoothed pressure (floored at the reference
+        pressure, as Q's stress is)."""
         stress = np.maximum(self.smoothed, self.reference_pressure)
         return np.asarray(stress_ratio, dtype=float) * self.local_stiffening_exponent(stress)

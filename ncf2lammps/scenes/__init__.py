@@ -6,16 +6,16 @@
 from . import compaction, manufacture, shear
 from .base import Scene, execute
 from .deck import Deck, deck_context, render_deck
-from .loading import QUASI_STATIC_CHECKS, quasi_static
+from .loading import kinetic_checks, quasi_static
 
 __all__ = [
-    "QUASI_STATIC_CHECKS",
     "SCENES",
     "Deck",
     "Scene",
     "applicable_scenes",
     "deck_context",
     "execute",
+    "kinetic_checks",
     "quasi_static",
     "render_deck",
 ]
