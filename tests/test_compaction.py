@@ -187,9 +187,15 @@ def test_stiffening_exponent_of_a_power_law_curve():
     """A curve with Vf = a P^b exactly (gap = A / Vf) returns b = ln(t1 / t18) / ln 18 to 1e-6."""
     b, a, per_area = 0.15, 0.25, 300.0
     pressure = np.geomspace(0.1, 100.0, 4000)
-    gap = per_area / (a * pressure**b)
+    curve = _loading_curve(per_area / (a * pressure**b), pressure, per_area)
+    assert curve.stiffening_exponent(1.0, 18.0) == pytest.approx(b, rel=1e-6)
+
+
+def _loading_curve(gap, pressure, per_area):
+    """CompactionCurve of a pressure record (kPa) against gap (um) alone: no plate forces or
+    energies, reference pressure 1 kPa, no smoothing."""
     zeros = np.zeros(len(gap))
-    curve = CompactionCurve(
+    return CompactionCurve(
         gap,
         pressure,
         per_area,
@@ -200,7 +206,6 @@ def test_stiffening_exponent_of_a_power_law_curve():
         reference_pressure=1.0,
         window=1,
     ).compute()
-    assert curve.stiffening_exponent(1.0, 18.0) == pytest.approx(b, rel=1e-6)
 
 
 def test_first_crossings_match_the_record_by_record_search():
@@ -229,29 +234,12 @@ def test_first_crossings_match_the_record_by_record_search():
 
 
 def _two_slope_curve(low_b, high_b, knee, start):
-    """CompactionCurve of ``Vf ~ P^low_b`` below ``knee`` kPa and ``P^high_b`` above, from
-    ``start`` kPa to 100 kPa (4000 records, reference pressure 1 kPa, no smoothing)."""
+    """(CompactionCurve, pressure (4000,) kPa) of ``Vf ~ P^low_b`` below ``knee`` kPa and
+    ``P^high_b`` above, from ``start`` kPa to 100 kPa (:func:`_loading_curve`)."""
     pressure = np.geomspace(start, 100.0, 4000)
     exponent = np.where(pressure < knee, low_b, high_b)
-    log_vf = np.where(
-        pressure < knee,
-        low_b * np.log(pressure / knee),
-        high_b * np.log(pressure / knee),
-    )
-    gap = 1000.0 * np.exp(-log_vf)
-    zeros = np.zeros(len(gap))
-    curve = CompactionCurve(
-        gap,
-        pressure,
-        300.0,
-        force_top=zeros,
-        force_bottom=zeros,
-        kinetic=zeros,
-        potential=zeros,
-        reference_pressure=1.0,
-        window=1,
-    ).compute()
-    return curve, pressure, exponent
+    gap = 1000.0 * (pressure / knee) ** -exponent
+    return _loading_curve(gap, pressure, 300.0), pressure
 
 
 def test_local_stiffening_exponent_is_the_secant_over_a_factor_2():
@@ -261,7 +249,7 @@ def test_local_stiffening_exponent_is_the_secant_over_a_factor_2():
     (0.8 kPa, not 0.71) and 0.3 at 100 kPa with it held at the highest. The kinetic thickness
     error of each record is its own Q times b at its pressure floored at 1 kPa. Tolerance 1e-5
     (linear interpolation between records)."""
-    curve, pressure, _ = _two_slope_curve(0.05, 0.3, 10.0, 0.8)
+    curve, pressure = _two_slope_curve(0.05, 0.3, 10.0, 0.8)
     local = curve.local_stiffening_exponent([3.0, 30.0, 10.0, 1.0, 100.0])
     assert local == pytest.approx([0.05, 0.3, 0.175, 0.05, 0.3], rel=1e-5)
     assert curve.local_stiffening_exponent(30.0) == pytest.approx([0.3], rel=1e-5)
