@@ -489,7 +489,7 @@ class ManufactureSpec:
         1e-9,
         0.5,
         unit="-",
-        source="kinetic energy / pretension work; docs/design.md §8: < 1 %",
+        source="kinetic energy / pretension work; docs/manufacture.md: 1e-3 since the cell creeps",
     )
     stitch_creep_target_per_ms: float | None = _f(
         None,

@@ -100,8 +100,8 @@ def shear_rate(spec: FabricSpec, model: Model) -> float:
     kinetic stress of non-affine bead motion, ``rho (gdot d)^2``, to the confining stress P; it
     is ``shear.inertial_number`` with P = :data:`REFERENCE_PRESSURE_KPA`, d the mean fibre bead
     diameter and rho the fibre density. Measured on the coarse case: I = 0.1 gave a largest
-    kinetic / external work of 4.3 %, I = 0.05 1.3 % (docs/shear.md); the default 0.025 aims
-    below the 1 % of docs/design.md §8.
+    kinetic / external work of 4.3 %, I = 0.05 1.3 % (docs/shear.md); the quasi-static check is
+    the kinetic stress ratio below ``kinetic_stress_limit`` (docs/loading.md).
     """
     settings = spec.shear
     if settings.shear_rate_deg_us is not None:
