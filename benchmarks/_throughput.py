@@ -1,8 +1,9 @@
 """Shared by the throughput benchmarks: a fixed-length compaction deck on the paper's cell.
 
 The cell is the paper's (runs/hpt310, 69 um chains, at ``dt_fraction`` 0.5) without the stitch,
-so the compaction deck starts from model.data and needs no manufactured state. The plates close at a fixed speed to
-Vf 0.33 and ``fix halt`` ends the run there: every path runs the same deck for the same steps.
+so the compaction deck starts from model.data and needs no manufactured state. The plates close
+at a fixed speed to Vf 0.33 and ``fix halt`` ends the run there: every path runs the same deck
+for the same steps.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ def paper_mat_folder(directory: Path, plate_speed_m_s: float = 3.0) -> tuple[Pat
     data.pop("stitch")
     data["cell"] = {"length_mm": 11.2, "width_mm": 5.08}  # the stitch repeat of runs/hpt310
     data["compaction"].update(end="final_fvf", final_fvf=0.33, plate_speed_m_s=plate_speed_m_s)
-    # the step of every throughput figure measured (the case's own is 0.7): the same deck, steps
+    # the time step of every throughput figure measured so far (the case itself runs at 0.7)
     data["numerics"]["dt_fraction"] = 0.5
     spec = spec_from_dict(data)
     built = build(spec, directory, force=True)
