@@ -15,7 +15,12 @@ Each folder holds a ``results.h5`` with a ``/shear`` group, ``model.data`` and t
   edge from y (the shear angle of a 0/90 frame); the z extents (1st to 99th percentile of
   the bead centres, um) of the fibres and of the stitch; and, per bead type (each ply, the
   stitch), the 1st, 50th and 99th percentiles of the bead centres' z (um): where each ply goes
-  (a ply that lofts past the stitch's loops, one that follows its underlaps).
+  (a ply that lofts past the stitch's loops, one that follows its underlaps);
+- per ply and frame, its packing: the share of its layer (1st to 99th percentile of its bead
+  centres' z, plus one chain diameter) that the chains' contact cylinders fill,
+  ``0.98 sum(|bond| pi d^2 / 4) / (A h)`` (A the cell's area; 0.98: the chain inside the
+  percentiles). A ply that thickens at a falling packing restacks; one that keeps its
+  thickness while its area falls densifies in plane.
 
 A stitch longer than its affine length is pushed out by the cell (a jammed cell that thickens);
 one at its start length while its tension falls has let the cell yield around it.
@@ -44,12 +49,27 @@ parser.add_argument(
 args = parser.parse_args()
 
 
+def ply_packing(z: np.ndarray, diameters: np.ndarray, volume: float, area: float) -> float:
+    """Share of a ply's layer its chains fill: ``z`` (N,) and ``diameters`` (N,) its beads'
+    heights and contact diameters (um), ``volume`` its chains' contact cylinders (um3),
+    ``area`` the cell's (um2); the layer spans the 1st to 99th percentile of z plus the
+    median diameter."""
+    bottom, top = np.percentile(z, [1, 99])
+    layer = top - bottom + float(np.median(diameters))
+    return float(0.98 * volume / (area * layer))
+
+
 def stitch_path(folder: Path) -> list[dict]:
     """Per dump frame: box tilt (deg), path and affine path change, fibre and stitch z extents."""
     data = read_data(folder / "model.data")
     stitch_type = data.atom_labels.index("stitch")
-    bonds = data.bonds[np.all(data.type_id[data.bonds] == stitch_type, axis=1)]
+    stitch_bonds = np.all(data.type_id[data.bonds] == stitch_type, axis=1)
     fibre = data.type_id != stitch_type
+    ply_bonds = {
+        t: np.all(data.type_id[data.bonds] == t, axis=1)
+        for t in range(len(data.atom_labels))
+        if t != stitch_type
+    }
     with warnings.catch_warnings():  # the dump has no masses and no time unit: not needed
         warnings.simplefilter("ignore", UserWarning)
         universe = mda.Universe(str(folder / "shear.lammpstrj"), format="LAMMPSDUMP")
@@ -57,7 +77,10 @@ def stitch_path(folder: Path) -> list[dict]:
         for frame in universe.trajectory[unique_frames(universe)]:
             box = frame.dimensions
             x = universe.atoms.positions.astype(float)
-            vectors = minimize_vectors(x[bonds[:, 1]] - x[bonds[:, 0]], box).astype(float)
+            bond_vectors = minimize_vectors(x[data.bonds[:, 1]] - x[data.bonds[:, 0]], box)
+            bond_lengths = np.linalg.norm(bond_vectors.astype(float), axis=1)
+            cylinders = bond_lengths * np.pi * data.diameter[data.bonds[:, 0]] ** 2 / 4
+            vectors = bond_vectors[stitch_bonds].astype(float)
             edges = triclinic_vectors(box).astype(float)[:2, :2].T  # columns a, b (in plane)
             if start is None:
                 start, edges0 = vectors, edges
@@ -78,6 +101,15 @@ def stitch_path(folder: Path) -> list[dict]:
                         label: np.percentile(x[data.type_id == t, 2], [1, 50, 99]).tolist()
                         for t, label in enumerate(data.atom_labels)
                         if np.any(data.type_id == t)
+                    },
+                    "ply_packing": {
+                        data.atom_labels[t]: ply_packing(
+                            x[data.type_id == t, 2],
+                            data.diameter[data.type_id == t],
+                            cylinders[in_ply].sum(),
+                            abs(np.linalg.det(edges)),
+                        )
+                        for t, in_ply in ply_bonds.items()
                     },
                 }
             )

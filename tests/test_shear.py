@@ -182,7 +182,11 @@ def test_the_locked_coarse_cell_keeps_its_stitch_tensioned(coarse_sheared):
     of the manufactured tension through the test shear (measured 100-187 % to 22.5 deg on four
     rates of the same cell), each dump frame's path and affine path start at 0, and every frame
     gives each bead type's z percentiles (p1 <= p50 <= p99) with the plies in their stacking
-    order (the median of ply k below that of ply k + 1: the shear does not swap the plies)."""
+    order (the median of ply k below that of ply k + 1: the shear does not swap the plies).
+    Each ply's packing lies between 0 and the densest packing of parallel rods,
+    pi / (2 sqrt 3) = 0.907, and the locked cell densifies in plane as the frame's area falls
+    (cos g): each ply's packing at the last frame is at least its packing at the first (a
+    replica of this case: 0.323 -> 0.349 and 0.312 -> 0.345 from 0 to 25 deg)."""
     folder, results = coarse_sheared
     script = ROOT / "runs" / "stitch_in_shear.py"
     output = subprocess.run(
@@ -206,6 +210,10 @@ def test_the_locked_coarse_cell_keeps_its_stitch_tensioned(coarse_sheared):
         assert all(p1 <= p50 <= p99 for p1, p50, p99 in z.values())
         medians = [z[label][1] for label in plies]
         assert medians == sorted(medians)
+        assert list(frame["ply_packing"]) == plies
+        assert all(0.0 < p < np.pi / (2 * np.sqrt(3)) for p in frame["ply_packing"].values())
+    for label in plies:
+        assert frames[-1]["ply_packing"][label] >= frames[0]["ply_packing"][label]
 
 
 @pytest.mark.lammps
