@@ -49,14 +49,11 @@ parser.add_argument(
 args = parser.parse_args()
 
 
-def ply_packing(z: np.ndarray, diameters: np.ndarray, volume: float, area: float) -> float:
-    """Share of a ply's layer its chains fill: ``z`` (N,) and ``diameters`` (N,) its beads'
-    heights and contact diameters (um), ``volume`` its chains' contact cylinders (um3),
-    ``area`` the cell's (um2); the layer spans the 1st to 99th percentile of z plus the
-    median diameter."""
-    bottom, top = np.percentile(z, [1, 99])
-    layer = top - bottom + float(np.median(diameters))
-    return float(0.98 * volume / (area * layer))
+def ply_packing(bottom: float, top: float, diameter: float, volume: float, area: float) -> float:
+    """Share of a ply's layer its chains fill: ``bottom`` and ``top`` the 1st and 99th
+    percentile of its bead heights (um), ``diameter`` its median contact diameter (um),
+    ``volume`` its chains' contact cylinders (um3), ``area`` the cell's (um2)."""
+    return float(0.98 * volume / (area * (top - bottom + diameter)))
 
 
 def stitch_path(folder: Path) -> list[dict]:
@@ -65,9 +62,13 @@ def stitch_path(folder: Path) -> list[dict]:
     stitch_type = data.atom_labels.index("stitch")
     stitch_bonds = np.all(data.type_id[data.bonds] == stitch_type, axis=1)
     fibre = data.type_id != stitch_type
-    ply_bonds = {
-        t: np.all(data.type_id[data.bonds] == t, axis=1)
-        for t in range(len(data.atom_labels))
+    bond_sections = np.pi * data.diameter[data.bonds[:, 0]] ** 2 / 4  # (B,) um2
+    plies = {  # label -> (its bonds, its median contact diameter, um)
+        label: (
+            np.all(data.type_id[data.bonds] == t, axis=1),
+            float(np.median(data.diameter[data.type_id == t])),
+        )
+        for t, label in enumerate(data.atom_labels)
         if t != stitch_type
     }
     with warnings.catch_warnings():  # the dump has no masses and no time unit: not needed
@@ -78,8 +79,7 @@ def stitch_path(folder: Path) -> list[dict]:
             box = frame.dimensions
             x = universe.atoms.positions.astype(float)
             bond_vectors = minimize_vectors(x[data.bonds[:, 1]] - x[data.bonds[:, 0]], box)
-            bond_lengths = np.linalg.norm(bond_vectors.astype(float), axis=1)
-            cylinders = bond_lengths * np.pi * data.diameter[data.bonds[:, 0]] ** 2 / 4
+            cylinders = np.linalg.norm(bond_vectors.astype(float), axis=1) * bond_sections
             vectors = bond_vectors[stitch_bonds].astype(float)
             edges = triclinic_vectors(box).astype(float)[:2, :2].T  # columns a, b (in plane)
             if start is None:
@@ -87,6 +87,12 @@ def stitch_path(folder: Path) -> list[dict]:
                 length0 = np.linalg.norm(start, axis=1).sum()
             frame_map = np.eye(3)
             frame_map[:2, :2] = edges @ np.linalg.inv(edges0)
+            z_percentiles = {
+                label: np.percentile(x[data.type_id == t, 2], [1, 50, 99]).tolist()
+                for t, label in enumerate(data.atom_labels)
+                if np.any(data.type_id == t)
+            }
+            area = abs(np.linalg.det(edges))
             rows.append(
                 {
                     "step": int(frame.data.get("step", frame.frame)),
@@ -97,19 +103,16 @@ def stitch_path(folder: Path) -> list[dict]:
                     ),
                     "fibre_extent_um": float(np.ptp(np.percentile(x[fibre, 2], [1, 99]))),
                     "stitch_extent_um": float(np.ptp(np.percentile(x[~fibre, 2], [1, 99]))),
-                    "z_percentiles_um": {
-                        label: np.percentile(x[data.type_id == t, 2], [1, 50, 99]).tolist()
-                        for t, label in enumerate(data.atom_labels)
-                        if np.any(data.type_id == t)
-                    },
+                    "z_percentiles_um": z_percentiles,
                     "ply_packing": {
-                        data.atom_labels[t]: ply_packing(
-                            x[data.type_id == t, 2],
-                            data.diameter[data.type_id == t],
+                        label: ply_packing(
+                            z_percentiles[label][0],
+                            z_percentiles[label][2],
+                            diameter,
                             cylinders[in_ply].sum(),
-                            abs(np.linalg.det(edges)),
+                            area,
                         )
-                        for t, in_ply in ply_bonds.items()
+                        for label, (in_ply, diameter) in plies.items()
                     },
                 }
             )

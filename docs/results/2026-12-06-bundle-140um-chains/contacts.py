@@ -15,22 +15,25 @@ For each fibre ply of a LAMMPS data file written by ncf2lammps:
 import sys
 
 import numpy as np
-from scipy.spatial import cKDTree
+from MDAnalysis.lib.distances import self_capped_distance
+from MDAnalysis.lib.mdamath import triclinic_box
 
 from ncf2lammps.io.datafile import read_data
 
 
 def contacts(data, chosen):
-    """Pairs (i, j, r) of beads in ``chosen`` of different chains closer than their mean d."""
+    """Pairs (i, j, r) of beads in ``chosen`` of different chains closer than their mean d:
+    the cell periodic in x and y (its tilt included), open in z."""
     pos = data.positions[chosen]
     mol = data.mol_id[chosen]
     diam = data.diameter[chosen]
     h = data.box.matrix
-    shifts = [i * h[:, 0] + j * h[:, 1] for i in (-1, 0, 1) for j in (-1, 0, 1)]
-    images = np.concatenate([pos + s for s in shifts])
-    pairs = cKDTree(images).sparse_distance_matrix(cKDTree(pos), diam.max(), output_type="ndarray")
-    i, j, r = pairs["i"] % len(pos), pairs["j"], pairs["v"]
-    keep = (i < j) & (mol[i] != mol[j]) & (r < 0.5 * (diam[i] + diam[j]))
+    bottom = pos[:, 2].min() - diam.max()
+    height = 10.0 * (np.ptp(pos[:, 2]) + 2.0 * diam.max())  # no z image within reach
+    box = triclinic_box(h[:, 0], h[:, 1], np.array([0.0, 0.0, height]))
+    pairs, r = self_capped_distance(pos - [0.0, 0.0, bottom], diam.max(), box=box)
+    i, j = pairs.T
+    keep = (mol[i] != mol[j]) & (r < 0.5 * (diam[i] + diam[j]))
     return i[keep], j[keep], r[keep], diam
 
 
