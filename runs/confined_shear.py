@@ -8,8 +8,9 @@ plates, to see whether the shear force is limited by the cell's loft; prints JSO
 ``prepare`` takes a finished manufacture (``RUN``: ``manufactured.restart`` and the rendered
 decks ``decks/in.shear.lmp`` and ``decks/in.compaction.lmp`` of ``ncf2lammps run``) and writes
 into ``OUT`` its shear deck with two plates added before the shear: planes at the manufactured
-cell's lowest and highest bead surface, pressing with the compaction deck's plate law
-(``fix wall/gran/region``, the pairs' normal law) but with friction 0, so that they hold the
+cell's lowest and highest bead surface, pressing with the compaction deck's plate laws
+(``fix wall/gran/region``: the pairs' normal law; under the bundle law the fibre beads' and the
+stitch beads' own, with the deck's groups for them) but with friction 0, so that they hold the
 thickness without resisting the frame's in-plane motion. With ``--gap-um G`` the top plate first
 descends at the squeeze speed to a gap of G um above the bottom plate and holds there for 20 %
 of the descent's steps before the shear begins. The plates' pressures (kPa) and the cell's
@@ -45,21 +46,43 @@ def _refuse(message: str) -> None:
     sys.exit(2)
 
 
-def _wall_law(compaction_deck: str) -> str:
-    """The compaction plates' ``wall/gran/region`` arguments with the friction set to 0."""
-    match = re.search(r"wall/gran/region (.+?) region plate_top", compaction_deck)
-    if match is None:
+#: A compaction plate: ``fix wall_top<suffix> <group> wall/gran/region <law> region plate_top``.
+_PLATE = re.compile(
+    r"^fix\s+wall_top(\S*)\s+(\S+)\s+wall/gran/region\s+(.+?)\s+region plate_top\b", re.M
+)
+
+
+def _wall_laws(compaction_deck: str) -> tuple[list[str], list[tuple[str, str, str]]]:
+    """The compaction plates' group definitions and their (suffix, group, ``wall/gran/region``
+    arguments) with the friction set to 0."""
+    plates = _PLATE.findall(compaction_deck)
+    if not plates:
         _refuse("no plate_top wall in decks/in.compaction.lmp")
-    law = match.group(1)
-    frictionless, count = re.subn(r"(tangential \S+ \S+ \S+) \S+", r"\1 0.0", law, count=1)
-    if count != 1:
-        _refuse("the plate law has no 'tangential MODEL kt xgammat mu' part")
-    return frictionless
+    laws = []
+    for suffix, group, law in plates:
+        frictionless, count = re.subn(r"(tangential \S+ \S+ \S+) \S+", r"\1 0.0", law, count=1)
+        if count != 1:
+            _refuse("a plate law has no 'tangential MODEL kt xgammat mu' part")
+        laws.append((suffix, group, frictionless))
+    groups = {group for _, group, _ in laws} - {"all"}
+    definitions = [
+        line
+        for line in compaction_deck.splitlines()
+        if line.startswith("group ") and line.split()[1] in groups
+    ]
+    return definitions, laws
 
 
-def _plates(law: str, gap: float | None, thickness: float, speed: float, dt: float) -> str:
-    """Deck lines: the two plates (and the squeeze from the manufactured ``thickness`` to
-    ``gap`` um at ``speed`` um/us)."""
+def _plates(
+    walls: tuple[list[str], list[tuple[str, str, str]]],
+    gap: float | None,
+    thickness: float,
+    speed: float,
+    dt: float,
+) -> str:
+    """Deck lines: the two plates of :func:`_wall_laws` ``walls`` (and the squeeze from the
+    manufactured ``thickness`` to ``gap`` um at ``speed`` um/us)."""
+    definitions, laws = walls
     lines = [
         "# Confining plates: frictionless, the compaction deck's normal law.",
         "run             0",
@@ -80,14 +103,20 @@ def _plates(law: str, gap: float | None, thickness: float, speed: float, dt: flo
         " move NULL NULL v_zshift units box",
         "region          plate_bottom plane 0.0 0.0 ${plate_lo} 0.0 0.0 1.0 units box",
     ]
+    lines += definitions
     for name in ("top", "bottom"):
-        lines += [
-            f"fix             wall_{name} all wall/gran/region {law} region plate_{name} contacts",
-            f"compute         force_{name} all reduce sum f_wall_{name}[4]",
-        ]
+        for suffix, group, law in laws:
+            wall = f"wall_{name}{suffix}"
+            lines += [
+                f"fix             {wall} {group} wall/gran/region {law} region plate_{name}"
+                " contacts",
+                f"compute         force_{name}{suffix} {group} reduce sum f_{wall}[4]",
+            ]
+    top = "+".join(f"c_force_top{suffix}" for suffix, _, _ in laws)
+    bottom = "+".join(f"c_force_bottom{suffix}" for suffix, _, _ in laws)
     lines += [
-        "variable        ptop equal -c_force_top/(lx*ly)",
-        "variable        pbot equal c_force_bottom/(lx*ly)",
+        f"variable        ptop equal -({top})/(lx*ly)",
+        f"variable        pbot equal ({bottom})/(lx*ly)",
         "variable        gap equal v_plate_hi+v_zshift-v_plate_lo",
     ]
     if gap is not None:
@@ -126,7 +155,7 @@ def prepare(run: Path, out: Path, gap: float | None, speed_m_s: float) -> dict:
     thickness = units.to_micro(float(attrs["thickness_mm"]), "mm")
     if gap is not None and gap >= thickness:
         _refuse(f"--gap-um {gap:g} is not below the cell's {thickness:.6g} um")
-    block = _plates(_wall_law(compaction.read_text()), gap, thickness, speed, dt)
+    block = _plates(_wall_laws(compaction.read_text()), gap, thickness, speed, dt)
     history = (
         f"fix             plates all ave/time 1 {_history_period(deck)} v_ptop v_pbot v_gap"
         ' v_thickness file shear.plates.txt format " %.15g"\n'

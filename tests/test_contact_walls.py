@@ -200,3 +200,88 @@ run             0
         m_eff = light * heavy / (light + heavy)
         assert value("heavy") == pytest.approx(damped(pair_force, m_eff), rel=1e-9)
         assert value("wall") == pytest.approx(damped(wall_force, light), rel=1e-9)
+
+
+#: A tiny stitched cell under the bundle law (fibre-stitch pairs: the rigid hooke law).
+BUNDLE_CELL = {
+    "contact": {"normal_model": "bundle", "normal_stiffness_N_m": 1e5},
+    "mat": {"initial_fvf": 0.2},
+}
+_BUNDLE_PLATE = re.compile(
+    r"^fix\s+wall_(top|bottom)(\S*)\s+(\S+)\s+wall/gran/region\s+granular\s+(.*?)\s+region\s",
+    re.M,
+)
+#: The compaction deck's plate block: its groups, walls, force computes and force variables.
+_PLATE_BLOCK = re.compile(
+    r"^(group\s+(fibre|stitch)\s|fix\s+wall_|compute\s+force_|variable\s+force_).*$", re.M
+)
+
+
+def test_bundle_plates_press_fibres_by_the_bundle_law_and_the_stitch_rigidly():
+    """Rendered deck only: under the bundle law each plate has two walls, the fibre beads'
+    with the pairs' ``* *`` law (the compressible bed) and the stitch beads' with the
+    fibre-stitch pairs' rigid hooke law (a solid yarn on steel), both with the plates'
+    friction; the plate forces sum both walls."""
+    run = prepare(tiny_spec(**BUNDLE_CELL))
+    deck = render_deck(run, "compaction").text
+    walls = {
+        (plate, suffix, group): law for plate, suffix, group, law in _BUNDLE_PLATE.findall(deck)
+    }
+    pair = _PAIR.search(deck).group(1)
+    stitch_type = next(i + 1 for i, t in enumerate(run.model.atom_types) if t.role == "stitch")
+    fibre_stitch = re.search(rf"^pair_coeff\s+1 {stitch_type}\s+(\S.*)$", deck, re.M).group(1)
+    assert sorted(walls) == [
+        ("bottom", "", "fibre"),
+        ("bottom", "_stitch", "stitch"),
+        ("top", "", "fibre"),
+        ("top", "_stitch", "stitch"),
+    ]
+    for plate in ("top", "bottom"):
+        assert walls[(plate, "", "fibre")] == pair
+        assert walls[(plate, "_stitch", "stitch")] == fibre_stitch
+    assert pair.startswith("hertz/material ") and fibre_stitch.startswith("hooke ")
+    assert f"group           stitch type {stitch_type}\n" in deck
+    assert "variable        force_top equal -(c_force_top+c_force_top_stitch)\n" in deck
+
+
+@pytest.mark.lammps
+def test_a_stitch_bead_on_a_bundle_plate_feels_the_rigid_law(tmp_path):
+    """The bundle compaction deck's own plate block on three beads: a fibre bead (d = 100 um)
+    pressed 0.1 um into the bottom plate feels the Hertz force 4/3 E* sqrt(R delta) delta of
+    the bundle law, a stitch bead pressed 0.01 um into each plate the hooke force k_n delta of
+    the fibre-stitch law; the plate force variables sum both walls (to 1e-9)."""
+    run = prepare(tiny_spec(**BUNDLE_CELL))
+    deck = render_deck(run, "compaction").text
+    block = "\n".join(m.group(0) for m in _PLATE_BLOCK.finditer(deck))
+    stitch_type = next(i + 1 for i, t in enumerate(run.model.atom_types) if t.role == "stitch")
+    radius, delta, delta_stitch, stitch_radius = 50.0, 0.1, 0.01, 20.0
+    (tmp_path / "in.lmp").write_text(
+        f"""
+units           micro
+boundary        p p f
+atom_style      sphere
+atom_modify     map array
+comm_modify     vel yes
+region          box block -500 500 -500 500 -200 400
+create_box      {len(run.model.atom_types)} box
+create_atoms    1 single 0.0 0.0 {radius - delta}
+create_atoms    {stitch_type} single 200.0 0.0 {stitch_radius - delta_stitch}
+create_atoms    {stitch_type} single -200.0 0.0 {200.0 + delta_stitch - stitch_radius}
+set             atom 1 diameter {2 * radius} density 1.8
+set             atom 2*3 diameter {2 * stitch_radius} density 1.38
+pair_style      granular
+pair_coeff      * * {_PAIR.search(deck).group(1)}
+region          plate_bottom plane 0.0 0.0 0.0 0.0 0.0 1.0 units box
+region          plate_top plane 0.0 0.0 200.0 0.0 0.0 -1.0 units box
+{block}
+thermo_style    custom step v_force_top v_force_bottom
+run             0
+"""
+    )
+    with Engine(log=None) as engine:
+        engine.file(tmp_path / "in.lmp")
+        value = engine.variable
+        hertz = 4.0 / 3.0 * run.contact.normal / 2.0 * math.sqrt(radius * delta) * delta
+        rigid = run.contact.stitch.normal * delta_stitch
+        assert value("force_top") == pytest.approx(rigid, rel=1e-9)
+        assert value("force_bottom") == pytest.approx(hertz + rigid, rel=1e-9)

@@ -176,3 +176,28 @@ def test_kinetic_energy_jump_trips_the_kinetic_guard(tmp_path, monkeypatch):
         run_deck(engine, deck, chunk=10_000)
     assert "guard 'kinetic' at step" in str(err.value)
     assert "kinetic energy grew" in str(err.value)
+
+
+@pytest.mark.lammps
+def test_a_bead_past_a_plate_trips_the_plate_guard(tmp_path, monkeypatch):
+    """A granular plate skips a bead whose centre has passed it, silently. The mat's lowest
+    layer of chains, moved down by 0.6 d before the compaction's run, lies past the bottom
+    plate: the plate guard, and no other, stops the run at its first check with the count and
+    what to change."""
+    spec = case_spec("mat-only").replace(compaction=FAST)
+    built = build(spec, tmp_path / "run")
+    deck = built.directory / "decks" / "in.compaction.lmp"
+    diameter = float(built.model.diameter.max())
+    lines = deck.read_text().splitlines()
+    last_run = max(i for i, line in enumerate(lines) if line.startswith("run "))
+    lines[last_run:last_run] = [
+        "variable        lowest atom z<$(bound(all,zmin)+1.0)",
+        "group           sunk variable lowest",
+        f"displace_atoms  sunk move 0.0 0.0 {-0.6 * diameter!r} units box",
+    ]
+    deck.write_text("\n".join(lines) + "\n")
+    monkeypatch.chdir(built.directory)
+    with Engine(log=None) as engine, pytest.raises(UnstableRunError) as err:
+        run_deck(engine, deck, chunk=10_000)
+    assert "guard 'plate' at step" in str(err.value)
+    assert "passed through a compaction plate" in str(err.value)

@@ -32,7 +32,7 @@ _LAMMPS_FAILURES = (
     ),
     (
         re.compile(r"Particle outside surface of region"),
-        "wall guard at step {step}: a bead crossed a wall (a needle or a plate) within one step"
+        "wall guard at step {step}: a bead crossed a needle's wall within one step"
         " (LAMMPS: particle outside surface of region): the integration is unstable or the wall"
         " moves too fast: lower numerics.dt_fraction, manufacture.needle_speed_m_s or the loading"
         " rate (ncf2lammps check prints the stability margin)",
@@ -51,6 +51,12 @@ _ADVICE = {
     "overlap": (
         "two beads overlap by more than the allowed fraction of a diameter",
         "raise contact.normal_stiffness_N_m or lower the loads/rates; check the time step margin",
+    ),
+    "plate": (
+        "beads passed through a compaction plate (the value is their count): the plate's contact"
+        " let them through under their load",
+        "lower compaction.max_pressure_kPa or the loading rate; if the beads are the stitch's"
+        " under a soft contact law, the deck is at fault (report it)",
     ),
     "kinetic": (
         f"the kinetic energy grew more than {GUARD_MAX_KINETIC_JUMP:g} x between two checks (an"
