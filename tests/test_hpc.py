@@ -27,7 +27,8 @@ from conftest import case_spec, checkpoint_step, copy_run, kill_after_checkpoint
 from ncf2lammps import run_scenes
 from ncf2lammps.io.results import read_results
 from ncf2lammps.io.spectoml import write_spec
-from ncf2lammps.orchestration.run import mpiexec
+from ncf2lammps.orchestration.run import checkpoints, mpiexec
+from ncf2lammps.scenes import Deck
 from ncf2lammps.scenes.shear import SNAPSHOT_DEG
 
 FAST = {
@@ -280,3 +281,19 @@ def test_resume_refuses_another_spec_and_bad_ranks(tmp_path):
         assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr
         assert "Traceback" not in out.stderr
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+
+
+def test_a_checkpoint_interval_rounded_up_to_the_deck_period_is_announced(tmp_path, caplog):
+    """A checkpoint interval is rounded up to a multiple of the deck's recording period, so
+    that no checkpoint splits an averaging window; when that changes what the spec asked for,
+    one warning says which interval the scene uses and why; an interval already on the
+    period's multiples, or none, passes silently."""
+    deck = Deck("manufacture", "", 97_000)
+    with caplog.at_level("WARNING"):
+        assert checkpoints(tmp_path, deck, 20_000, resume=False).every == 97_000
+        assert checkpoints(tmp_path, deck, 194_000, resume=False).every == 194_000
+        assert checkpoints(tmp_path, deck, 0, resume=False).every == 0
+    assert len(caplog.records) == 1
+    message = caplog.records[0].getMessage()
+    assert "manufacture: checkpoints every 97000 steps, not the 20000 asked" in message
+    assert "output.checkpoint_every_steps" in message

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import ctypes
 import json
+import logging
 import os
 import shutil
 import signal
@@ -45,6 +46,8 @@ from .report import write_report
 
 __all__ = ["checkpoints", "mpiexec", "run", "run_scenes", "scenes_to_run"]
 
+_log = logging.getLogger(__name__)
+
 
 def scenes_to_run(spec: FabricSpec, scenes: Sequence[str] | None) -> list[str]:
     """The scenes asked for (default: all the spec supports) plus their prerequisites, in order."""
@@ -61,9 +64,19 @@ def scenes_to_run(spec: FabricSpec, scenes: Sequence[str] | None) -> list[str]:
 
 def checkpoints(directory: Path, deck: Deck, every: int, resume: bool) -> Checkpoints:
     """Checkpointing of ``deck``'s scene in ``directory`` every ``every`` steps (rounded to the
-    deck's period); resumes only if a checkpoint exists."""
+    deck's period, with a warning when that changes it); resumes only if a checkpoint exists."""
     found = resume and Checkpoints(deck.name).state(directory) is not None
-    return Checkpoints(deck.name, deck.checkpoint_interval(every), found)
+    interval = deck.checkpoint_interval(every)
+    if interval != every:
+        _log.warning(
+            "%s: checkpoints every %d steps, not the %d asked (output.checkpoint_every_steps):"
+            " rounded up to the deck's recording period of %d steps (docs/hpc.md)",
+            deck.name,
+            interval,
+            every,
+            deck.period,
+        )
+    return Checkpoints(deck.name, interval, found)
 
 
 def run_scenes(
