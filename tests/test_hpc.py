@@ -285,12 +285,13 @@ def test_resume_refuses_another_spec_and_bad_ranks(tmp_path):
 
 def test_a_checkpoint_interval_rounded_up_to_the_deck_period_is_announced(tmp_path, caplog):
     """A checkpoint interval is rounded up to a multiple of the deck's recording period, so
-    that no checkpoint splits an averaging window; when that changes what the spec asked for,
-    one warning says which interval the scene uses and why; an interval already on the
-    period's multiples, or none, passes silently."""
+    that no checkpoint splits an averaging window; when that more than doubles what the spec
+    asked for, one warning says which interval the scene uses and why; a smaller rounding, an
+    interval already on the period's multiples, or none, passes silently."""
     deck = Deck("manufacture", "", 97_000)
     with caplog.at_level("WARNING"):
         assert checkpoints(tmp_path, deck, 20_000, resume=False).every == 97_000
+        assert checkpoints(tmp_path, deck, 60_000, resume=False).every == 97_000
         assert checkpoints(tmp_path, deck, 194_000, resume=False).every == 194_000
         assert checkpoints(tmp_path, deck, 0, resume=False).every == 0
     assert len(caplog.records) == 1

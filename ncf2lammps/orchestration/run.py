@@ -64,10 +64,11 @@ def scenes_to_run(spec: FabricSpec, scenes: Sequence[str] | None) -> list[str]:
 
 def checkpoints(directory: Path, deck: Deck, every: int, resume: bool) -> Checkpoints:
     """Checkpointing of ``deck``'s scene in ``directory`` every ``every`` steps (rounded to the
-    deck's period, with a warning when that changes it); resumes only if a checkpoint exists."""
+    deck's period, with a warning when that more than doubles it); resumes only if a checkpoint
+    exists."""
     found = resume and Checkpoints(deck.name).state(directory) is not None
     interval = deck.checkpoint_interval(every)
-    if interval != every:
+    if interval > 2 * every:
         _log.warning(
             "%s: checkpoints every %d steps, not the %d asked (output.checkpoint_every_steps):"
             " rounded up to the deck's recording period of %d steps (docs/hpc.md)",
