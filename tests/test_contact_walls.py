@@ -41,6 +41,15 @@ _PLATE = re.compile(
 _PAIR = re.compile(r"^pair_coeff[ \t]+\* \*[ \t]+(\S.*)$", re.M)
 
 
+#: The toy decks' box: micro units, spheres, a 1 x 1 mm box open in z.
+_TOY_BOX = """units           micro
+boundary        p p f
+atom_style      sphere
+atom_modify     map array
+comm_modify     vel yes
+region          box block -500 500 -500 500 -200 400"""
+
+
 def _laws(deck: str) -> tuple[dict[str, str], str]:
     """({plate: wall law arguments}, pair law arguments) of a compaction deck."""
     return dict(_PLATE.findall(deck)), _PAIR.search(deck).group(1)
@@ -72,12 +81,7 @@ def test_one_bead_on_a_plate_feels_the_hertz_force(tmp_path):
     radius, delta, modulus = 50.0, 0.1, run.contact.normal
     (tmp_path / "in.lmp").write_text(
         f"""
-units           micro
-boundary        p p f
-atom_style      sphere
-atom_modify     map array
-comm_modify     vel yes
-region          box block -500 500 -500 500 -200 400
+{_TOY_BOX}
 create_box      1 box
 create_atoms    1 single 0.0 0.0 {radius - delta}
 create_atoms    1 single 200.0 0.0 {200.0 + delta - radius}
@@ -153,12 +157,7 @@ def test_hertz_damping_is_the_same_fraction_of_critical_for_every_pair(tmp_path)
     radius, delta, speed, zeta = 50.0, 0.1, 0.02, run.spec.contact.damping_ratio
     (tmp_path / "in.lmp").write_text(
         f"""
-units           micro
-boundary        p p f
-atom_style      sphere
-atom_modify     map array
-comm_modify     vel yes
-region          box block -500 500 -500 500 -200 400
+{_TOY_BOX}
 create_box      1 box
 create_atoms    1 single -200.0 0.0 100.0
 create_atoms    1 single {-200.0 + 2 * radius - delta} 0.0 100.0
@@ -257,12 +256,7 @@ def test_a_stitch_bead_on_a_bundle_plate_feels_the_rigid_law(tmp_path):
     radius, delta, delta_stitch, stitch_radius = 50.0, 0.1, 0.01, 20.0
     (tmp_path / "in.lmp").write_text(
         f"""
-units           micro
-boundary        p p f
-atom_style      sphere
-atom_modify     map array
-comm_modify     vel yes
-region          box block -500 500 -500 500 -200 400
+{_TOY_BOX}
 create_box      {len(run.model.atom_types)} box
 create_atoms    1 single 0.0 0.0 {radius - delta}
 create_atoms    {stitch_type} single 200.0 0.0 {stitch_radius - delta_stitch}

@@ -157,25 +157,36 @@ def test_far_too_large_time_step_trips_a_guard_and_cli_exits_1(tmp_path):
         assert not fh.attrs["complete"]
 
 
+def _compaction_with(tmp_path, monkeypatch, extra) -> UnstableRunError:
+    """The mat-only compaction deck with the lines ``extra(built)`` inserted before its last
+    ``run``, run in its folder; the guard error it must raise."""
+    spec = case_spec("mat-only").replace(compaction=FAST)
+    built = build(spec, tmp_path / "run")
+    deck = built.directory / "decks" / "in.compaction.lmp"
+    lines = deck.read_text().splitlines()
+    last_run = max(i for i, line in enumerate(lines) if line.startswith("run "))
+    lines[last_run:last_run] = extra(built)
+    deck.write_text("\n".join(lines) + "\n")
+    monkeypatch.chdir(built.directory)
+    with Engine(log=None) as engine, pytest.raises(UnstableRunError) as err:
+        run_deck(engine, deck, chunk=10_000)
+    return err.value
+
+
 @pytest.mark.lammps
 def test_kinetic_energy_jump_trips_the_kinetic_guard(tmp_path, monkeypatch):
     """A uniform kick along x of 0.01 d per step: a tenth of the step-move limit, no overlap, no
     stretched bond, yet the kinetic energy jumps ~1e4 x above the guard's floor (an rms move of
     1e-4 d per step) at the first check. The kinetic guard, and no other, must stop it: a box
     that jumped in one step (the shear deck's fix deform once did) looks just like this."""
-    spec = case_spec("mat-only").replace(compaction=FAST)
-    built = build(spec, tmp_path / "run")
-    deck = built.directory / "decks" / "in.compaction.lmp"
-    speed = 0.01 * float(built.model.diameter.min()) / built.time_step.dt
-    lines = deck.read_text().splitlines()
-    last_run = max(i for i, line in enumerate(lines) if line.startswith("run "))
-    lines.insert(last_run, f"velocity        all set {speed!r} 0.0 0.0 sum yes units box")
-    deck.write_text("\n".join(lines) + "\n")
-    monkeypatch.chdir(built.directory)
-    with Engine(log=None) as engine, pytest.raises(UnstableRunError) as err:
-        run_deck(engine, deck, chunk=10_000)
-    assert "guard 'kinetic' at step" in str(err.value)
-    assert "kinetic energy grew" in str(err.value)
+
+    def kick(built) -> list[str]:
+        speed = 0.01 * float(built.model.diameter.min()) / built.time_step.dt
+        return [f"velocity        all set {speed!r} 0.0 0.0 sum yes units box"]
+
+    err = _compaction_with(tmp_path, monkeypatch, kick)
+    assert "guard 'kinetic' at step" in str(err)
+    assert "kinetic energy grew" in str(err)
 
 
 @pytest.mark.lammps
@@ -184,20 +195,15 @@ def test_a_bead_past_a_plate_trips_the_plate_guard(tmp_path, monkeypatch):
     layer of chains, moved down by 0.6 d before the compaction's run, lies past the bottom
     plate: the plate guard, and no other, stops the run at its first check with the count and
     what to change."""
-    spec = case_spec("mat-only").replace(compaction=FAST)
-    built = build(spec, tmp_path / "run")
-    deck = built.directory / "decks" / "in.compaction.lmp"
-    diameter = float(built.model.diameter.max())
-    lines = deck.read_text().splitlines()
-    last_run = max(i for i, line in enumerate(lines) if line.startswith("run "))
-    lines[last_run:last_run] = [
-        "variable        lowest atom z<$(bound(all,zmin)+1.0)",
-        "group           sunk variable lowest",
-        f"displace_atoms  sunk move 0.0 0.0 {-0.6 * diameter!r} units box",
-    ]
-    deck.write_text("\n".join(lines) + "\n")
-    monkeypatch.chdir(built.directory)
-    with Engine(log=None) as engine, pytest.raises(UnstableRunError) as err:
-        run_deck(engine, deck, chunk=10_000)
-    assert "guard 'plate' at step" in str(err.value)
-    assert "passed through a compaction plate" in str(err.value)
+
+    def sink(built) -> list[str]:
+        diameter = float(built.model.diameter.max())
+        return [
+            "variable        lowest atom z<$(bound(all,zmin)+1.0)",
+            "group           sunk variable lowest",
+            f"displace_atoms  sunk move 0.0 0.0 {-0.6 * diameter!r} units box",
+        ]
+
+    err = _compaction_with(tmp_path, monkeypatch, sink)
+    assert "guard 'plate' at step" in str(err)
+    assert "passed through a compaction plate" in str(err)
