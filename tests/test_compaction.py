@@ -157,6 +157,22 @@ def test_curve_thickness_at_is_exact_on_a_line():
     assert np.isnan(curve.thickness_at(10.0))
 
 
+def test_force_share_of_a_part_carrying_a_fixed_fraction():
+    """A part of the beads carrying 1/4 of the plates' mean force at every record has the
+    share 1/4 wherever the smoothed plates carry load (NaN at the unsmoothed first record, at
+    zero force), read at any pressure the curve reaches; ``value_at`` of the gap is
+    ``thickness_at``. Tolerance 1e-12 (rounding)."""
+    gap = np.linspace(1000.0, 500.0, 51)
+    for window in (1, 5):
+        curve = _linear_curve(gap, window=window)
+        share = curve.force_share(0.25 * 0.5 * (curve.force_top + curve.force_bottom))
+        assert share[1:] == pytest.approx(0.25, rel=1e-12)
+        assert np.isnan(share[0]) == (window == 1)
+    assert curve.value_at(share, 1.0) == pytest.approx(0.25, rel=1e-12)
+    assert curve.value_at(curve.gap_mm, 1.5) == curve.thickness_at(1.5)
+    assert np.isnan(curve.value_at(share, 1e3))
+
+
 def test_curve_energetics_of_a_linear_spring():
     """F = k (h0 - h) on both plates, top (1 + e/2) F and bottom (1 - e/2) F, constant kinetic K,
     all work stored: the trapezoidal work is exact, ``W = k (h0 - h)^2 / 2``; the largest

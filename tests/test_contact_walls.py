@@ -21,7 +21,7 @@ from ncf2lammps.engine import Engine
 from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
 from ncf2lammps.numerics import prepare
-from ncf2lammps.scenes import render_deck
+from ncf2lammps.scenes import SCENES, render_deck
 
 #: A quarter of the mat-only cell, closed fast to Vf 0.62: both plates carry the mat.
 HERTZ_MAT = {
@@ -241,6 +241,8 @@ def test_bundle_plates_press_fibres_by_the_bundle_law_and_the_stitch_rigidly():
     assert pair.startswith("hertz/material ") and fibre_stitch.startswith("hooke ")
     assert f"group           stitch type {stitch_type}\n" in deck
     assert "variable        force_top equal -(c_force_top+c_force_top_stitch)\n" in deck
+    history = re.search(r"^fix\s+history .*$", deck, re.M).group(0)
+    assert " v_load_kinetic_ratio v_force_stitch file compaction.history.txt" in history
 
 
 @pytest.mark.lammps
@@ -248,7 +250,8 @@ def test_a_stitch_bead_on_a_bundle_plate_feels_the_rigid_law(tmp_path):
     """The bundle compaction deck's own plate block on three beads: a fibre bead (d = 100 um)
     pressed 0.1 um into the bottom plate feels the Hertz force 4/3 E* sqrt(R delta) delta of
     the bundle law, a stitch bead pressed 0.01 um into each plate the hooke force k_n delta of
-    the fibre-stitch law; the plate force variables sum both walls (to 1e-9)."""
+    the fibre-stitch law; the plate force variables sum both walls, and the stitch's own
+    variable is the mean of its two walls (to 1e-9)."""
     run = prepare(tiny_spec(**BUNDLE_CELL))
     deck = render_deck(run, "compaction").text
     block = "\n".join(m.group(0) for m in _PLATE_BLOCK.finditer(deck))
@@ -279,3 +282,35 @@ run             0
         rigid = run.contact.stitch.normal * delta_stitch
         assert value("force_top") == pytest.approx(rigid, rel=1e-9)
         assert value("force_bottom") == pytest.approx(hertz + rigid, rel=1e-9)
+        assert value("force_stitch") == pytest.approx(rigid, rel=1e-9)
+
+
+def test_bundle_compaction_reports_the_stitch_share_of_the_plate_load(tmp_path):
+    """The compaction's collect on records in the bundle deck's formats: plates closing on a
+    linear spring (1 kPa per 10 um of travel) whose stitch beads carry a quarter of the mean
+    plate force report ``stitch_plate_share_at_1kPa`` and ``_18kPa`` of 1/4 (to 1e-12) and
+    the stitch's plate force in N; the thickness attributes are read from the same records."""
+    run = prepare(tiny_spec(**BUNDLE_CELL))
+    area = run.model.cell_area
+    gap = np.linspace(1200.0, 900.0, 301)
+    steps = 1000 + 10 * np.arange(len(gap))
+    pressure = 0.1 * (gap[0] - gap)
+    force = pressure * area
+    zero = np.zeros(len(gap))
+    history = {
+        "v_time": 1e-3 * steps, "v_gap": gap, "v_force_top": force, "v_force_bottom": force,
+        "v_pressure": pressure, "v_kinetic": zero, "v_potential": zero, "v_load_rate": zero,
+        "v_load_stress_mean": pressure, "v_load_kinetic_ratio": zero,
+        "v_force_stitch": 0.25 * force,
+    }  # fmt: skip
+    stitch = {"v_gap": gap, "v_stitch_tension_mean": zero + 1e5, "v_stitch_tension_max": zero + 2e5}
+    for name, columns in (("history", history), ("stitch", stitch)):
+        table = np.column_stack([steps, *columns.values()])
+        header = f"# Time-averaged data\n# TimeStep {' '.join(columns)}\n"
+        np.savetxt(tmp_path / f"compaction.{name}.txt", table, header=header, comments="")
+    (tmp_path / "compaction.final.txt").write_text(f"ncf2lammps compaction: step {steps[-1]}\n")
+    attrs, datasets = SCENES["compaction"].collect(run, tmp_path)
+    assert attrs["stitch_plate_share_at_1kPa"] == pytest.approx(0.25, rel=1e-12)
+    assert attrs["stitch_plate_share_at_18kPa"] == pytest.approx(0.25, rel=1e-12)
+    assert attrs["thickness_at_18kPa_mm"] == pytest.approx(1.2 - 0.18, rel=1e-9)
+    assert datasets["stitch_plate_force_N"] == pytest.approx(0.25e-9 * force, rel=1e-12)

@@ -81,8 +81,8 @@ class CompactionCurve:
     ``max_kinetic_ratio`` (largest kinetic energy / W once loaded); ``plate_force_imbalance``
     (travel-weighted ``|F_top - F_bottom| / F`` once loaded: 0 for quasi-static plates);
     ``energy_balance_residual`` (:func:`~ncf2lammps.analysis.energy.energy_balance_residual`);
-    :meth:`thickness_at`, :meth:`stiffening_exponent`, :meth:`local_stiffening_exponent`,
-    :meth:`kinetic_thickness_error`.
+    :meth:`thickness_at`, :meth:`value_at`, :meth:`force_share`, :meth:`stiffening_exponent`,
+    :meth:`local_stiffening_exponent`, :meth:`kinetic_thickness_error`.
     """
 
     def __init__(
@@ -140,7 +140,21 @@ class CompactionCurve:
 
     def thickness_at(self, pressure: float) -> float:
         """Gap (mm) where the smoothed pressure first reaches ``pressure`` (kPa); NaN if never."""
-        return first_crossing(self.gap_mm, self.smoothed, pressure)
+        return self.value_at(self.gap_mm, pressure)
+
+    def value_at(self, values, pressure: float) -> float:
+        """``values`` (N,), one per record, where the smoothed pressure first reaches
+        ``pressure`` (kPa), linear between records; NaN if it never does."""
+        return first_crossing(values, self.smoothed, pressure)
+
+    def force_share(self, part_force) -> np.ndarray:
+        """Share of the plates' mean force carried by a part of the beads, (N,): its mean force
+        on the two plates ``part_force`` (N,) (nN) over the plates' mean force, both smoothed
+        as the pressure is; NaN where the plates carry nothing."""
+        total = smooth(0.5 * (self.force_top + self.force_bottom), self.window)
+        part = smooth(part_force, self.window)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(total > 0.0, part / total, np.nan)
 
     def local_stiffening_exponent(self, pressure) -> np.ndarray:
         """Local exponent ``b = -d ln t / d ln P`` of the smoothed curve at each ``pressure``

@@ -169,6 +169,13 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         "reached_fvf": float(curve.fvf[-1]) if len(gap) else math.nan,
         "stopped_by": _stopped_by(spec, pressure, gap, final_gap),
     }
+    plate_datasets = {}
+    if "v_force_stitch" in history:  # plates split by law: the stitch's share of the load
+        force_stitch = history["v_force_stitch"][keep]
+        share = curve.force_share(force_stitch)
+        for pressure in REPORT_PRESSURES:
+            attrs[f"stitch_plate_share_at_{pressure:g}kPa"] = curve.value_at(share, pressure)
+        plate_datasets["stitch_plate_force_N"] = units.from_micro(force_stitch, "N")
     stitch_attrs, stitch_datasets = stitch.collect(
         run,
         directory,
@@ -187,6 +194,7 @@ def collect(run: Prepared, directory: Path) -> tuple[dict, dict]:
         "fvf": curve.fvf,
         "force_top_N": units.from_micro(history["v_force_top"][keep], "N"),
         "force_bottom_N": units.from_micro(history["v_force_bottom"][keep], "N"),
+        **plate_datasets,
         "plate_speed_m_s": units.from_micro(speed, "m_s"),
         "kinetic_stress_ratio": kinetic_ratio,
         "kinetic_thickness_error": thickness_error,
