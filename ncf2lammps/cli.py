@@ -23,7 +23,7 @@ from .orchestration.export import export
 from .orchestration.folder import RunFolderError, check_output
 from .orchestration.report import write_report
 from .orchestration.run import run
-from .scenes import SCENES
+from .scenes import SCENES, applicable_scenes, render_deck
 from .spec import SpecError, load_spec
 
 
@@ -105,6 +105,17 @@ def _check(args) -> int:
             f" {balance * numerics.stitch_mass_scaling:.3g} lifts its limits to the fibres'"
             f" (docs/performance.md)"
         )
+    every = spec.output.checkpoint_every_steps
+    intervals = ", ".join(
+        f"{scene} every {render_deck(prepared, scene).checkpoint_interval(every):,}"
+        for scene in applicable_scenes(spec)
+    )
+    lines.append(
+        f"checkpoints   {intervals} steps (output.checkpoint_every_steps = {every:,} rounded up"
+        " to each deck's recording period, docs/hpc.md)"
+        if every
+        else "checkpoints   none (output.checkpoint_every_steps = 0)"
+    )
     replica = perturbation(spec, model)
     if replica is not None:
         lines.append(

@@ -33,6 +33,22 @@ def test_check_prints_sizes_and_time_step():
     assert "replica" not in out.stdout
 
 
+def test_check_prints_each_scenes_checkpoint_interval(tmp_path):
+    """The interval each scene checkpoints at: the spec's 100,000 rounded up to the deck's
+    recording period (the coarse compaction deck guards every 100 steps and records every 150:
+    100,200), or none."""
+    out = cli("check", COARSE)
+    assert out.returncode == 0, out.stderr
+    assert "checkpoints   manufacture every 100,000, compaction every 100,200, shear every" in (
+        out.stdout
+    )
+    assert "(output.checkpoint_every_steps = 100,000 rounded up" in out.stdout
+    spec = tmp_path / "none.toml"
+    spec.write_text(Path(COARSE).read_text() + "\n[output]\ncheckpoint_every_steps = 0\n")
+    out = cli("check", spec)
+    assert "checkpoints   none (output.checkpoint_every_steps = 0)" in out.stdout
+
+
 def test_check_names_a_replica_and_its_perturbation(tmp_path):
     """A spec with numerics.perturbation_seed: `check` says that every scene moves the beads."""
     spec = tmp_path / "replica.toml"
