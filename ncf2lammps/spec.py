@@ -233,6 +233,16 @@ class StitchSpec:
     packing_fraction: float = _f(
         1.0, 0.3, 1.0, unit="-", source="1: solid yarn (paper); multifilament PES ~0.5-0.8"
     )
+    contact_diameter_um: float | None = _f(
+        None,
+        1.0,
+        2000.0,
+        unit="um",
+        source="None: the yarn's diameter (a round yarn, the paper); a multifilament yarn pressed"
+        " between tows or plates flattens into a ribbon a few filaments thick, by an amount no"
+        " source gives for this yarn: study it between a few filament diameters and the yarn's"
+        " diameter (docs/fidelity.md)",
+    )
     needle_diameter_mm: float = _f(
         1.0, 0.01, 10.0, unit="mm", source="E5 stitch-bonding compound needle, estimate"
     )

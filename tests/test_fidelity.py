@@ -263,6 +263,41 @@ def test_stitch_packing_fraction_sets_diameter_not_mass_or_stiffness():
     assert_model_invariants(spec, loose)
 
 
+def test_stitch_contact_diameter_thins_the_beads_not_the_yarn():
+    """A flattened yarn (``contact_diameter_um`` 40 um, the round yarn 83.7 um): the stitch
+    beads have that diameter, are spaced by ``bead_spacing_ratio`` x it (mean bond within 5 %)
+    and lie one bead radius plus 1 % of it below the fibres' lowest surface; the yarn's mass per
+    length (its dtex) and axial stiffness E T / rho stay the round yarn's (to 1e-9). A contact
+    diameter above the yarn's is refused, naming the field and the yarn's diameter."""
+    spec = tiny_spec(stitch={"contact_diameter_um": 40.0})
+    stitch = spec.stitch
+    rho = units.to_micro(stitch.density_g_cm3, "g_cm3")
+    tex = units.to_micro(stitch.linear_density_dtex, "dtex")
+    for model, d in (
+        (build_model(tiny_spec()), np.sqrt(4 * tex / (np.pi * rho))),
+        (build_model(spec), 40.0),
+    ):
+        mask = model.role_mask("stitch")
+        bonds = [
+            (t, np.sum(model.bond_type == i))
+            for i, t in enumerate(model.bond_types)
+            if t.role == "stitch"
+        ]
+        length = sum(t.r0 * count for t, count in bonds)
+        assert model.atom_types[-1].diameter == pytest.approx(d, rel=1e-12)
+        assert length / sum(c for _, c in bonds) == pytest.approx(0.5 * d, rel=0.05)
+        assert model.mass[mask].sum() == pytest.approx(tex * length, rel=1e-9)
+        for t, _ in bonds:
+            assert t.axial_stiffness == pytest.approx(
+                units.to_micro(stitch.E_GPa, "GPa") * tex / rho, rel=1e-12
+            )
+        fibre = model.role_mask("fibre")
+        bottom = np.min(model.positions[fibre, 2] - model.diameter[fibre] / 2)
+        assert model.positions[mask, 2].min() == pytest.approx(bottom - 0.51 * d, abs=1e-9)
+    with pytest.raises(SpecError, match=r"stitch.contact_diameter_um.*83.74 um"):
+        build_model(tiny_spec(stitch={"contact_diameter_um": 100.0}))
+
+
 # --- friction ---------------------------------------------------------------------------------
 
 
@@ -287,7 +322,7 @@ def test_lammps_runs_every_option_and_bends_by_the_law(tmp_path, monkeypatch):
     spec = tiny_spec(
         discretisation={"bending": "harmonic", "chain_internal_fvf": 0.85},
         mat={"waviness_amplitude_um": 60.0, "waviness_waves_per_cell": 1},
-        stitch={"packing_fraction": 0.7},
+        stitch={"packing_fraction": 0.7, "contact_diameter_um": 60.0},
         contact={"fibre_stitch_friction": 0.2},
     )
     result = build(spec, tmp_path / "wavy")

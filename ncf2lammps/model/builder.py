@@ -312,10 +312,27 @@ def _stitch_diameter(stitch: StitchSpec) -> float:
     return stitch.diameter_um or float(np.sqrt(4.0 * linear / (np.pi * rho)))
 
 
-def _stitch_faces(stitch: StitchSpec, fibre_low: float, fibre_high: float) -> tuple[float, float]:
-    """Heights of the underlap and loop axes (um): one yarn radius and a 1 % clearance beyond
-    the fibre extent ``fibre_low``..``fibre_high`` (um)."""
+def _stitch_contact_diameter(stitch: StitchSpec) -> float:
+    """The yarn's bead diameter (um): ``contact_diameter_um`` (a flattened yarn), refused above
+    the yarn's diameter, else the yarn's diameter."""
     d = _stitch_diameter(stitch)
+    contact = stitch.contact_diameter_um
+    if contact is None:
+        return d
+    if contact > d:
+        raise SpecError(
+            "stitch.contact_diameter_um",
+            contact,
+            f"must not exceed the yarn's diameter {d:.4g} um (a flattened yarn is thinner than"
+            " the round one; unset: the round yarn)",
+        )
+    return contact
+
+
+def _stitch_faces(stitch: StitchSpec, fibre_low: float, fibre_high: float) -> tuple[float, float]:
+    """Heights of the underlap and loop axes (um): one bead radius and a 1 % clearance beyond
+    the fibre extent ``fibre_low``..``fibre_high`` (um)."""
+    d = _stitch_contact_diameter(stitch)
     clearance = 0.01 * d
     return fibre_low - d / 2 - clearance, fibre_high + d / 2 + clearance
 
@@ -348,14 +365,17 @@ def _stitch_part(
     spec: FabricSpec, cell: tuple[float, float], faces: tuple[float, float], fibre_d_max: float
 ) -> Part:
     """The stitch yarns between the underlap and loop heights ``faces`` (um), one bead type and
-    one bond type per distinct rest length; no fibre volume; the needle holes."""
+    one bond type per distinct rest length; no fibre volume; the needle holes. The beads have
+    the contact diameter (spaced by ``bead_spacing_ratio`` x it), and the yarn's mass per length
+    and axial stiffness whatever it is."""
     stitch = spec.stitch
     d = _stitch_diameter(stitch)
-    needle = _needle_diameter(stitch, d, fibre_d_max)
+    contact = _stitch_contact_diameter(stitch)
+    needle = _needle_diameter(stitch, contact, fibre_d_max)
     gauge = units.to_micro(stitch.gauge_mm, "mm")
     stitch_length = units.to_micro(stitch.stitch_length_mm, "mm")
     path = stitch_path(stitch.overlaps, gauge, stitch_length, cell, *faces)
-    spacing = spec.discretisation.bead_spacing_ratio * d
+    spacing = spec.discretisation.bead_spacing_ratio * contact
     chains = [sample_closed_polyline(v, path.closing_shift, spacing) for v in path.yarn_vertices]
     first = chains[0]  # every yarn translates the first
     n_yarns, per_yarn = len(chains), len(first.positions)
@@ -390,7 +410,8 @@ def _stitch_part(
         bond_type[members] = inverse + offset
         types += new
     cylinder = np.pi * d**2 / 4.0
-    bead_density = yarn_rho * cylinder * first.length_per_bead / (np.pi * d**3 / 6.0)
+    fill = packing * (d / contact) ** 2  # the yarn's fibre area over the bead's cross-section
+    bead_density = yarn_rho * cylinder * first.length_per_bead / (np.pi * contact**3 / 6.0)
     offsets = (np.arange(n_yarns) * per_yarn)[:, None, None]
     yarns = Part(
         positions=_wrapped(np.stack([c.positions for c in chains]), cell),
@@ -399,7 +420,7 @@ def _stitch_part(
         mol_id=np.repeat(np.arange(n_yarns), per_yarn),
         bonds=(first.bonds[None, :, :] + offsets).reshape(-1, 2),
         bond_type=np.tile(bond_type, n_yarns),
-        atom_types=(AtomType("stitch", "stitch", d, rho, modulus, None, packing),),
+        atom_types=(AtomType("stitch", "stitch", contact, rho, modulus, None, fill),),
         bond_types=types,
         needle_points=path.needle_points,
         needle_diameter=needle,
@@ -429,7 +450,7 @@ def _with_links(
 
     Held: per link a straight chain of equal bonds (about ``spacing`` um) from the corner bead
     ``corner_bead[l, 0]`` to ``corner_bead[l, 1]`` ((L, 2) int). Sliding: the chain runs on the
-    loop face to one yarn diameter d short of the end corner, drops by d and ends on a ring of
+    loop face to one stitch bead diameter d short of the end corner, drops by d and ends on a ring of
     radius d around the leg one d below that corner (the ring's beads touch the leg's). Inner
     beads one molecule each, every link and ring of the yarn's axial stiffness ``axial`` (nN)
     and mass per length ``linear_density`` (pg/um); links and rings have bond types of their own.

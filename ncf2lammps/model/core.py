@@ -16,7 +16,8 @@ class AtomType:
     Attributes: name; role ``"fibre"`` or ``"stitch"``; diameter (um); material density
     (pg/um^3); axial modulus E (kPa); ``angle_deg``: the realised angle from x of a ply's
     chains (0: along x, 90: along y; None for the stitch); ``fill``: fibre (or yarn) volume
-    fraction inside the chain, so that its fibre cross-section is ``fill pi d^2 / 4``;
+    fraction inside the chain, so that its fibre cross-section is ``fill pi d^2 / 4`` (above 1
+    for a flattened stitch yarn, whose beads are thinner than the round yarn);
     ``lattice``: the ply's chain direction ``(a Lx, b Ly)`` as ``(a, b)`` (geometry/direction.py).
     """
 
