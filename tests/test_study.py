@@ -67,7 +67,11 @@ def test_every_knob_is_a_spec_field_a_grid_can_set():
 
 @pytest.mark.parametrize(
     ("knob", "values"),
-    [("manufacture.stitch_tension_N", [0.1, 0.05, 0.2]), ("stitch.E_GPa", [12.0, 4.3, 1.0])],
+    [
+        ("manufacture.stitch_tension_N", [0.1, 0.05, 0.2]),
+        ("stitch.E_GPa", [12.0, 4.3, 1.0]),
+        ("stitch.contact_diameter_um", [83.0, 42.0, 21.0]),
+    ],
 )
 def test_a_constant_studied_over_its_range_refers_to_its_first_value(knob, values):
     """A physical constant (no conservative end): the reference is the first value listed, and

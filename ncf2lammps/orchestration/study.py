@@ -96,6 +96,7 @@ KNOBS = {
     "contact.bundle_waviness_ratio": "first",
     "manufacture.stitch_tension_N": "first",
     "stitch.E_GPa": "first",
+    "stitch.contact_diameter_um": "first",
     "mat.seed": "first",
     "numerics.perturbation_seed": "first",
 }
