@@ -22,6 +22,7 @@ from ncf2lammps.io.lammpslog import read_ave_time
 from ncf2lammps.io.results import read_results
 from ncf2lammps.numerics import prepare
 from ncf2lammps.scenes import SCENES, render_deck
+from ncf2lammps.scenes.stitch import deck_value
 
 #: A quarter of the mat-only cell, closed fast to Vf 0.62: both plates carry the mat.
 HERTZ_MAT = {
@@ -227,7 +228,7 @@ def test_bundle_plates_press_fibres_by_the_bundle_law_and_the_stitch_rigidly():
         (plate, suffix, group): law for plate, suffix, group, law in _BUNDLE_PLATE.findall(deck)
     }
     pair = _PAIR.search(deck).group(1)
-    stitch_type = next(i + 1 for i, t in enumerate(run.model.atom_types) if t.role == "stitch")
+    stitch_type = deck_value(run, "compaction")["type"]
     fibre_stitch = re.search(rf"^pair_coeff\s+1 {stitch_type}\s+(\S.*)$", deck, re.M).group(1)
     assert sorted(walls) == [
         ("bottom", "", "fibre"),
@@ -255,7 +256,7 @@ def test_a_stitch_bead_on_a_bundle_plate_feels_the_rigid_law(tmp_path):
     run = prepare(tiny_spec(**BUNDLE_CELL))
     deck = render_deck(run, "compaction").text
     block = "\n".join(m.group(0) for m in _PLATE_BLOCK.finditer(deck))
-    stitch_type = next(i + 1 for i, t in enumerate(run.model.atom_types) if t.role == "stitch")
+    stitch_type = deck_value(run, "compaction")["type"]
     radius, delta, delta_stitch, stitch_radius = 50.0, 0.1, 0.01, 20.0
     (tmp_path / "in.lmp").write_text(
         f"""

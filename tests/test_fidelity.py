@@ -237,6 +237,28 @@ def test_time_step_includes_bending():
 # --- stitch yarn ------------------------------------------------------------------------------
 
 
+def _stitch_bonds(model):
+    """[(bond type, count)] of the stitch's bond types."""
+    return [
+        (t, np.sum(model.bond_type == i))
+        for i, t in enumerate(model.bond_types)
+        if t.role == "stitch"
+    ]
+
+
+def _assert_the_yarns_mass_and_stiffness(model, stitch):
+    """The stitch's mass per yarn length is its dtex (total mass = tex x the yarns' polyline
+    length, to 1e-9) and every stitch bond's EA = E x fibre area = E tex / rho (to 1e-12)."""
+    rho = units.to_micro(stitch.density_g_cm3, "g_cm3")
+    tex = units.to_micro(stitch.linear_density_dtex, "dtex")
+    bonds = _stitch_bonds(model)
+    length = sum(t.r0 * count for t, count in bonds)
+    assert model.mass[model.role_mask("stitch")].sum() == pytest.approx(tex * length, rel=1e-9)
+    ea = units.to_micro(stitch.E_GPa, "GPa") * tex / rho
+    for t, _ in bonds:
+        assert t.axial_stiffness == pytest.approx(ea, rel=1e-12)
+
+
 def test_stitch_packing_fraction_sets_diameter_not_mass_or_stiffness():
     solid = build_model(tiny_spec())
     spec = tiny_spec(stitch={"packing_fraction": 0.6})
@@ -246,20 +268,8 @@ def test_stitch_packing_fraction_sets_diameter_not_mass_or_stiffness():
     tex = units.to_micro(stitch.linear_density_dtex, "dtex")
     d = np.sqrt(4 * tex / (np.pi * rho * 0.6))
     assert loose.atom_types[-1].diameter == pytest.approx(d, rel=1e-12)
-    # Mass per yarn length is the dtex: total stitch mass = tex x polyline length of the yarns.
-    mask = loose.role_mask("stitch")
-    yarn_length = sum(
-        t.r0 * np.sum(loose.bond_type == i)
-        for i, t in enumerate(loose.bond_types)
-        if t.role == "stitch"
-    )
-    assert loose.mass[mask].sum() == pytest.approx(tex * yarn_length, rel=1e-9)
-    # EA = E x fibre area = E tex / rho, whatever the packing.
-    ea = units.to_micro(stitch.E_GPa, "GPa") * tex / rho
-    for model in (solid, loose):
-        for t in model.bond_types:
-            if t.role == "stitch":
-                assert t.axial_stiffness == pytest.approx(ea, rel=1e-12)
+    for model in (solid, loose):  # whatever the packing
+        _assert_the_yarns_mass_and_stiffness(model, stitch)
     assert_model_invariants(spec, loose)
 
 
@@ -277,23 +287,15 @@ def test_stitch_contact_diameter_thins_the_beads_not_the_yarn():
         (build_model(tiny_spec()), np.sqrt(4 * tex / (np.pi * rho))),
         (build_model(spec), 40.0),
     ):
-        mask = model.role_mask("stitch")
-        bonds = [
-            (t, np.sum(model.bond_type == i))
-            for i, t in enumerate(model.bond_types)
-            if t.role == "stitch"
-        ]
+        bonds = _stitch_bonds(model)
         length = sum(t.r0 * count for t, count in bonds)
         assert model.atom_types[-1].diameter == pytest.approx(d, rel=1e-12)
         assert length / sum(c for _, c in bonds) == pytest.approx(0.5 * d, rel=0.05)
-        assert model.mass[mask].sum() == pytest.approx(tex * length, rel=1e-9)
-        for t, _ in bonds:
-            assert t.axial_stiffness == pytest.approx(
-                units.to_micro(stitch.E_GPa, "GPa") * tex / rho, rel=1e-12
-            )
+        _assert_the_yarns_mass_and_stiffness(model, stitch)
         fibre = model.role_mask("fibre")
         bottom = np.min(model.positions[fibre, 2] - model.diameter[fibre] / 2)
-        assert model.positions[mask, 2].min() == pytest.approx(bottom - 0.51 * d, abs=1e-9)
+        stitch_z = model.positions[model.role_mask("stitch"), 2]
+        assert stitch_z.min() == pytest.approx(bottom - 0.51 * d, abs=1e-9)
     with pytest.raises(SpecError, match=r"stitch.contact_diameter_um.*83.74 um"):
         build_model(tiny_spec(stitch={"contact_diameter_um": 100.0}))
 

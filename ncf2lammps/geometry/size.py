@@ -10,8 +10,8 @@ rounding of :mod:`~ncf2lammps.geometry.mat` and :mod:`~ncf2lammps.geometry.stitc
   volume-conserving diameter those chains can have (``L`` cell edge along, ``r`` spacing ratio);
   a wavy chain is at most ``1 + 4 A w / L`` times longer and has one more bead per corner;
 * the stitch: per yarn and course one leg across the mat (at most its thickness
-  ``sum A / (Vf rho)`` plus the stitch bead diameter and the waviness) and one face segment (at most
-  ``sqrt(l^2 + (span g)^2)``), each of ``<= length / (r d) + 1`` bonds.
+  ``sum A / (Vf rho)`` plus the stitch bead diameter and the waviness) and one face segment
+  (at most ``sqrt(l^2 + (span g)^2)``), each of ``<= length / (r d) + 1`` bonds.
 
 The bound is never below the real count; over it, straight chains by about
 ``(1 + 1/(2n))^1.5 (1 + 1/(2b))`` for ``n`` chains of ``b`` beads, the stitch by up to 1.4, wavy
@@ -137,8 +137,8 @@ def model_size(spec) -> ModelSize:
     if stitch is not None:
         rho = stitch.density_g_cm3 * stitch.packing_fraction
         linear = stitch.linear_density_dtex * 100.0  # pg/um
-        d = stitch.diameter_um or math.sqrt(4.0 * linear / (math.pi * rho))
-        d = min(d, stitch.contact_diameter_um or d)  # the beads' diameter (a flattened yarn)
+        yarn = stitch.diameter_um or math.sqrt(4.0 * linear / (math.pi * rho))
+        d = stitch.contact_diameter_um or yarn  # the beads' diameter (a flattened yarn's)
         parts["stitch"] = stitch_beads(
             stitch.overlaps,
             stitch.gauge_mm * 1e3,
@@ -150,8 +150,8 @@ def model_size(spec) -> ModelSize:
         )
         drivers["stitch"] = (
             f"legs across the {thickness / 1e3:.3g} mm thick mat (sum of areal_weight_g_m2 /"
-            f" (mat.initial_fvf {mat.initial_fvf:g} x density_g_cm3)), stitch bead diameter {d:.4g} um,"
-            f" stitch_length_mm {stitch.stitch_length_mm:g}, {cell}"
+            f" (mat.initial_fvf {mat.initial_fvf:g} x density_g_cm3)),"
+            f" stitch bead diameter {d:.4g} um, stitch_length_mm {stitch.stitch_length_mm:g}, {cell}"
         )
     return ModelSize(sum(parts.values()), parts, drivers, thickness)
 

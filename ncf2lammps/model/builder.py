@@ -450,8 +450,8 @@ def _with_links(
 
     Held: per link a straight chain of equal bonds (about ``spacing`` um) from the corner bead
     ``corner_bead[l, 0]`` to ``corner_bead[l, 1]`` ((L, 2) int). Sliding: the chain runs on the
-    loop face to one stitch bead diameter d short of the end corner, drops by d and ends on a ring of
-    radius d around the leg one d below that corner (the ring's beads touch the leg's). Inner
+    loop face to one stitch bead diameter d short of the end corner, drops by d and ends on a
+    ring of radius d around the leg one d below that corner (the ring's beads touch the leg's). Inner
     beads one molecule each, every link and ring of the yarn's axial stiffness ``axial`` (nN)
     and mass per length ``linear_density`` (pg/um); links and rings have bond types of their own.
     """
