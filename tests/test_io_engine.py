@@ -33,8 +33,10 @@ def test_data_file_round_trip_is_exact(case_models, case, tmp_path):
 @pytest.mark.parametrize("case", CASES)
 def test_lammps_reads_model_and_agrees(case_models, case, tmp_path, monkeypatch):
     """LAMMPS reads model.data, runs 0 steps; counts, positions and masses equal the model's
-    (times the spec's mass scaling)."""
+    (times the spec's mass scaling, and the stitch's on top for stitch beads)."""
     spec, model = case_models[case]
+    numerics = spec.numerics
+    stitch_factor = np.where(model.role_mask("stitch"), numerics.stitch_mass_scaling, 1.0)
     result = build(spec, tmp_path / "run")
     monkeypatch.chdir(result.directory)
     with Engine(log="log.verify.lammps") as engine:
@@ -43,7 +45,9 @@ def test_lammps_reads_model_and_agrees(case_models, case, tmp_path, monkeypatch)
         assert engine.nbonds == model.n_bonds
         np.testing.assert_allclose(engine.gather("x", 3), model.positions, rtol=0, atol=1e-9)
         np.testing.assert_allclose(
-            engine.gather("rmass", 1), model.mass * spec.numerics.mass_scaling, rtol=1e-12
+            engine.gather("rmass", 1),
+            model.mass * numerics.mass_scaling * stitch_factor,
+            rtol=1e-12,
         )
     # LAMMPS write_data -> our reader: the same atoms and bonds come back.
     with Engine(log=None) as engine:
