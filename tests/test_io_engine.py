@@ -14,7 +14,7 @@ from ncf2lammps import build, build_model
 from ncf2lammps.engine import Checkpoints, Engine, run_deck
 from ncf2lammps.io.datafile import read_data, write_data
 from ncf2lammps.io.deck import DeckValueError, render
-from ncf2lammps.numerics import prepare
+from ncf2lammps.numerics import prepare, simulated_model
 from ncf2lammps.scenes import deck_context
 
 
@@ -33,10 +33,8 @@ def test_data_file_round_trip_is_exact(case_models, case, tmp_path):
 @pytest.mark.parametrize("case", CASES)
 def test_lammps_reads_model_and_agrees(case_models, case, tmp_path, monkeypatch):
     """LAMMPS reads model.data, runs 0 steps; counts, positions and masses equal the model's
-    (times the spec's mass scaling, and the stitch's on top for stitch beads)."""
+    (masses: the simulated model's, with the spec's mass scalings)."""
     spec, model = case_models[case]
-    numerics = spec.numerics
-    stitch_factor = np.where(model.role_mask("stitch"), numerics.stitch_mass_scaling, 1.0)
     result = build(spec, tmp_path / "run")
     monkeypatch.chdir(result.directory)
     with Engine(log="log.verify.lammps") as engine:
@@ -45,9 +43,7 @@ def test_lammps_reads_model_and_agrees(case_models, case, tmp_path, monkeypatch)
         assert engine.nbonds == model.n_bonds
         np.testing.assert_allclose(engine.gather("x", 3), model.positions, rtol=0, atol=1e-9)
         np.testing.assert_allclose(
-            engine.gather("rmass", 1),
-            model.mass * numerics.mass_scaling * stitch_factor,
-            rtol=1e-12,
+            engine.gather("rmass", 1), simulated_model(spec, model).mass, rtol=1e-12
         )
     # LAMMPS write_data -> our reader: the same atoms and bonds come back.
     with Engine(log=None) as engine:
