@@ -1,10 +1,9 @@
 """HPC: the exported bundle under plain `mpiexec lmp`, 1 against 2 MPI ranks, and a run
 killed mid-scene then resumed from its checkpoint, each against a Python-driven run on 1 rank.
 
-The bundle runs on 1 rank: its decks differ from the Python-driven ones only by their `restart`
-line, and the same deck commands run on 2 ranks in `test_one_and_two_ranks_agree`. Beside the
-other pytest-xdist worker on a 2-core machine, the bundle on 2 ranks took 244-267 s, on 1 rank
-178 s.
+The bundle runs on BUNDLE_RANKS = 1 rank: its decks differ from the Python-driven ones only by
+their `restart` line, the same deck commands run on 2 ranks in `test_one_and_two_ranks_agree`,
+and 2 bundle ranks beside the other pytest-xdist worker would oversubscribe a 2-core machine.
 
 All on the coarse case with fast loading (inertial number 0.1 for compaction, 0.2 for shear,
 compaction to Vf 0.35, shear to 20 deg) and checkpoints and dumps every 20,000 steps; the
@@ -35,6 +34,9 @@ from ncf2lammps.io.spectoml import write_spec
 from ncf2lammps.orchestration.run import checkpoints, mpiexec
 from ncf2lammps.scenes import Deck
 from ncf2lammps.scenes.shear import SNAPSHOT_DEG
+
+#: MPI ranks of the exported bundle's run (module docstring).
+BUNDLE_RANKS = 1
 
 FAST = {
     "compaction": {"inertial_number": 0.1, "final_fvf": 0.35},
@@ -81,14 +83,14 @@ def test_bundle_runs_under_mpiexec_lmp_and_its_report_matches_python(request, tm
     the shared manufactured cell meanwhile)."""
     write_spec(tmp_path / "spec.toml", fast_spec())
     bundle = tmp_path / "bundle"
-    out = cli("export", str(tmp_path / "spec.toml"), "-o", str(bundle), "--np", "1")
+    out = cli("export", str(tmp_path / "spec.toml"), "-o", str(bundle), "--np", str(BUNDLE_RANKS))
     assert out.returncode == 0, out.stderr
     for name in ("in.run_all.lmp", "job.slurm", "README.md", "model.data", "decks/in.shear.lmp"):
         assert (bundle / name).is_file()
     assert "python" not in (bundle / "in.run_all.lmp").read_text()
     lmp = Path(mpiexec()).parent / "lmp"
     done = subprocess.run(
-        [mpiexec(), "-n", "1", str(lmp), "-in", "in.run_all.lmp"],
+        [mpiexec(), "-n", str(BUNDLE_RANKS), str(lmp), "-in", "in.run_all.lmp"],
         cwd=bundle,
         capture_output=True,
         text=True,
@@ -97,7 +99,7 @@ def test_bundle_runs_under_mpiexec_lmp_and_its_report_matches_python(request, tm
     out = cli("report", str(bundle))
     assert out.returncode == 0, out.stderr
     results = read_results(bundle / "results.h5")
-    assert bool(results["attrs"]["complete"]) and results["attrs"]["mpi_ranks"] == 1
+    assert bool(results["attrs"]["complete"]) and results["attrs"]["mpi_ranks"] == BUNDLE_RANKS
     reference = request.getfixturevalue("reference")
     for got, want in zip(figures(results), figures(reference), strict=True):
         assert got == pytest.approx(want, rel=0.02)
