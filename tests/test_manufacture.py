@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from conftest import case_spec, deck_commands, run_lammps_file, tiny_spec
 
-from ncf2lammps import build
+from ncf2lammps import build, build_model, units
 from ncf2lammps.io.datafile import read_data
 from ncf2lammps.io.results import read_results
 from ncf2lammps.numerics import prepare
@@ -198,6 +198,31 @@ def test_needle_walls_on_their_reach_push_as_on_every_fibre_bead(tmp_path):
     assert 0.25 * spec.discretisation.chain_diameter_um < moved.max()
     near, fibre = map(float, (folder / "counts.txt").read_text().split())
     assert 0 < near < fibre
+
+
+@pytest.mark.lammps
+def test_needles_part_a_dense_row_of_bundle_chains(tmp_path):
+    """Under the bundle law the needle walls take the rigid ``contact.normal_stiffness_N_m``,
+    not the bundle contact's (its onset stiffness, 42 N/m on this cell: there a bead of the
+    tiny cell's rows, 37 chains of contact diameter 251 um across 11.2 mm, crossed a needle's
+    wall at step 2,488 and LAMMPS stopped, at every needle speed and time step tried). Law: the
+    harmonic walls keep the fibre beads out of the needles, so after the needle stage no fibre
+    bead centre lies closer to a needle axis (images included) than the needle radius, the
+    manufacture's channel check (tolerance 0)."""
+    spec = tiny_spec(contact={"normal_model": "bundle"})
+    folder = build(spec, tmp_path / "run").directory
+    deck = (folder / "decks" / "in.manufacture.lmp").read_text().split("# stage: insertion")[0]
+    rigid = units.to_micro(spec.contact.normal_stiffness_N_m, "N_m")
+    epsilon = float(deck.split(" wall/region needle1 harmonic ")[1].split()[0])
+    assert epsilon == pytest.approx(rigid / 2, rel=1e-12)
+    (folder / "in.needles.lmp").write_text(f"{deck}write_data needles.data nocoeff\n")
+    run_lammps_file(folder, "in.needles.lmp")
+    parted = read_data(folder / "needles.data")
+    model = build_model(spec)
+    fibre = parted.positions[model.role_mask("fibre"), :2]
+    axes = needle_axes(model)
+    nearest = np.linalg.norm(fibre[:, None, :] - axes[None, :, :], axis=2).min()
+    assert nearest >= model.needle_diameter / 2
 
 
 def _needle_stage_z(folder, monkeypatch) -> tuple[np.ndarray, np.ndarray]:

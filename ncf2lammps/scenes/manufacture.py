@@ -275,15 +275,17 @@ def _needle_reach(model: Model, wall_range: float) -> dict:
 
 
 def _needle_stiffness(run: Prepared) -> float:
-    """Stiffness (nN/um) of the needle walls: the contact's; on a random bed, whose chains cross
-    the needle axes anywhere and must be pushed aside whole, at least the rigid
-    ``contact.normal_stiffness_N_m`` and the stiffest fibre bond's 2 K, so that no bond pulls a
-    bead through a needle."""
-    if run.spec.mat.arrangement != "random":
-        return run.contact.stiffness
-    fibre_bonds = [2.0 * t.k for t in run.simulated.bond_types if t.role == "fibre"]
+    """Stiffness (nN/um) of the needle walls. On rows, the contact's; under the bundle law,
+    whose stiffness is the fibre bed's at its onset (tens of N/m: dense rows of bundle chains
+    pushed their beads through a needle that soft), the rigid ``contact.normal_stiffness_N_m``
+    instead. On a random bed, whose chains cross the needle axes anywhere and must be pushed
+    aside whole, at least the rigid stiffness and the stiffest fibre bond's 2 K, so that no bond
+    pulls a bead through a needle."""
     rigid = units.to_micro(run.spec.contact.normal_stiffness_N_m, "N_m")
-    return max(rigid, *fibre_bonds)
+    if run.spec.mat.arrangement == "random":
+        fibre_bonds = [2.0 * t.k for t in run.simulated.bond_types if t.role == "fibre"]
+        return max(rigid, *fibre_bonds)
+    return rigid if run.spec.contact.normal_model == "bundle" else run.contact.stiffness
 
 
 def _pushoff_values(run: Prepared) -> dict:
