@@ -275,17 +275,17 @@ def _needle_reach(model: Model, wall_range: float) -> dict:
 
 
 def _needle_stiffness(run: Prepared) -> float:
-    """Stiffness (nN/um) of the needle walls. On rows, the contact's; under the bundle law,
-    whose stiffness is the fibre bed's at its onset (tens of N/m: dense rows of bundle chains
-    pushed their beads through a needle that soft), the rigid ``contact.normal_stiffness_N_m``
-    instead. On a random bed, whose chains cross the needle axes anywhere and must be pushed
-    aside whole, at least the rigid stiffness and the stiffest fibre bond's 2 K, so that no bond
-    pulls a bead through a needle."""
+    """Stiffness (nN/um) of the needle walls. On rows, the fibre-stitch contact's: the contact
+    law's, or under the bundle law its rigid stitch law (the bundle's own stiffness is the fibre
+    bed's at its onset, tens of N/m: dense rows of bundle chains pushed their beads through a
+    needle that soft). On a random bed, whose chains cross the needle axes anywhere and must be
+    pushed aside whole, at least the rigid ``contact.normal_stiffness_N_m`` and the stiffest
+    fibre bond's 2 K, so that no bond pulls a bead through a needle."""
+    if run.spec.mat.arrangement != "random":
+        return (run.contact.stitch or run.contact).stiffness
+    fibre_bonds = [2.0 * t.k for t in run.simulated.bond_types if t.role == "fibre"]
     rigid = units.to_micro(run.spec.contact.normal_stiffness_N_m, "N_m")
-    if run.spec.mat.arrangement == "random":
-        fibre_bonds = [2.0 * t.k for t in run.simulated.bond_types if t.role == "fibre"]
-        return max(rigid, *fibre_bonds)
-    return rigid if run.spec.contact.normal_model == "bundle" else run.contact.stiffness
+    return max(rigid, *fibre_bonds)
 
 
 def _pushoff_values(run: Prepared) -> dict:
