@@ -29,6 +29,7 @@ import pytest
 from conftest import case_spec, checkpoint_step, copy_run, kill_after_checkpoint
 
 from ncf2lammps import run_scenes
+from ncf2lammps.engine import Checkpoints
 from ncf2lammps.io.results import read_results
 from ncf2lammps.io.spectoml import write_spec
 from ncf2lammps.orchestration.run import checkpoints, mpiexec
@@ -132,6 +133,7 @@ def killed_and_resumed(tmp_path_factory):
         killed = {"complete": bool(fh.attrs["complete"]), "manufacture": "manufacture" in fh}
     killed["summary"] = (folder / "summary.md").exists()
     killed["step"] = checkpoint_step(folder, "manufacture")
+    killed["wall_s"] = Checkpoints("manufacture").wall_before(folder)
     out = cli("run", str(spec_file), "-o", str(folder), "--scene", "compaction", "--resume")
     return folder, killed, out
 
@@ -139,14 +141,19 @@ def killed_and_resumed(tmp_path_factory):
 @pytest.mark.lammps
 def test_killed_run_is_incomplete_and_resumes_to_a_complete_run(killed_and_resumed):
     """`run` killed in the relaxation stage of manufacture leaves results.h5 marked incomplete
-    and no summary; `run --resume` continues from the checkpoint and completes the file."""
+    and no summary; `run --resume` continues from the checkpoint and completes the file, its
+    wall time counting the steps run before the kill."""
     folder, killed, out = killed_and_resumed
     assert not killed["complete"] and not killed["manufacture"] and not killed["summary"]
     assert 100_000 <= killed["step"] < 200_000  # the relaxation stage, with its controller state
     assert out.returncode == 0, out.stderr
     results = read_results(folder / "results.h5")
     assert bool(results["attrs"]["complete"]) and (folder / "summary.md").is_file()
-    assert results["manufacture"]["attrs"]["resumed"]
+    attrs = results["manufacture"]["attrs"]
+    assert attrs["resumed"]
+    # The steps kept from before the kill count with the wall time their checkpoint recorded.
+    assert attrs["wall_before_resume_s"] == killed["wall_s"] > 0
+    assert attrs["wall_s"] > attrs["wall_before_resume_s"]
 
 
 @pytest.mark.lammps

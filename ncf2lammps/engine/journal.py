@@ -2,15 +2,18 @@
 
 Files, in the process's working directory: ``<name>.journal`` (one JSON list a line: ``C``
 command as LAMMPS expanded it, ``S`` stage marker, ``R`` run begun, ``E`` run ended),
-``<name>.checkpoint.json`` (the last checkpoint's record) and ``<name>.checkpoint.<step>.restart``
+``<name>.checkpoint.json`` (the last checkpoint's record, with the wall time spent on the
+steps up to it, every segment of a resumed run included) and ``<name>.checkpoint.<step>.restart``
 (only the last one is kept). Rank 0 writes the files; every rank writes the restart.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -76,6 +79,12 @@ class Checkpoints:
         state = json.loads(path.read_text())
         return state if (Path(directory) / state["restart"]).is_file() else None
 
+    def wall_before(self, directory: str | os.PathLike = ".") -> float:
+        """Wall time (s) spent on the steps up to the last checkpoint, every segment of a resumed
+        run included (0 without a checkpoint; NaN if its record does not say)."""
+        state = self.state(directory)
+        return 0.0 if state is None else float(state.get("wall_s", math.nan))
+
     @property
     def files(self) -> str:
         """Glob pattern of this deck's checkpoint record and restart files."""
@@ -102,6 +111,8 @@ class Journal:
         self.internal: list[str] = []
         self.previous: str | None = None
         self.fh = None
+        self.started = time.perf_counter()
+        self.wall_before = 0.0
         if not checkpoints.resume:
             if self.writer:
                 checkpoints.clear()
@@ -145,6 +156,7 @@ class Journal:
         if state is None:
             raise EngineError(f"{self.name}: no checkpoint to resume from")
         self.previous = state["restart"]
+        self.wall_before = Checkpoints(self.name).wall_before()
         return state
 
     def checkpoint(self, stage: str, number: int) -> None:
@@ -155,7 +167,8 @@ class Journal:
         values = {name: self.engine.variable(name) for name in dict.fromkeys(self.internal)}
         if not self.writer:
             return
-        state = {"step": step, "restart": restart, "line": number, "stage": stage}
+        wall = self.wall_before + time.perf_counter() - self.started
+        state = {"step": step, "restart": restart, "line": number, "stage": stage, "wall_s": wall}
         temporary = self.state_path.with_suffix(".tmp")
         temporary.write_text(json.dumps({**state, "internal": values}))
         os.replace(temporary, self.state_path)

@@ -110,11 +110,17 @@ def run_scenes(
         checkpoint = checkpoints(directory, deck, run.spec.output.checkpoint_every_steps, resume)
         if not checkpoint.resume:
             (directory / "decks" / f"in.{scene}.lmp").write_text(deck.text)
+        before = checkpoint.wall_before(directory) if checkpoint.resume else 0.0
         start = time.perf_counter()
         live = _execute(directory, run.spec, scene, checkpoint, ranks)
-        wall = time.perf_counter() - start
+        wall = before + time.perf_counter() - start
         attrs, datasets = SCENES[scene].collect(run, directory)
-        attrs = {**attrs, **live, "wall_s": wall, "resumed": checkpoint.resume}
+        attrs |= {
+            **live,
+            "wall_s": wall,
+            "wall_before_resume_s": before,
+            "resumed": checkpoint.resume,
+        }
         write_scene(results, scene, attrs, datasets)
     return results
 

@@ -7,7 +7,8 @@ Stages of :func:`study`:
    all sit at their conservative end (:data:`KNOBS`: finest, slowest, unscaled);
 2. each point runs in ``points/pNN`` like ``ncf2lammps run``; a point whose results are
    complete for the same spec is reused, and one killed while it ran resumes from its
-   checkpoint (status ``ok (resumed)``; its wall time then counts the resumed part only); a
+   checkpoint (status ``ok (resumed)``; its wall time counts every segment up to the last
+   checkpoint and the resumed part, not the steps lost after that checkpoint); a
    point whose folder holds a finished manufacture of the same model and settings (say, from
    a study run with other compaction settings) keeps it, and each test scene that finished
    with the same table, and runs only the rest; a point whose model and manufacture settings
