@@ -20,7 +20,7 @@ def labelled(value: str) -> tuple[str, Path]:
     """``LABEL=RUN_DIR`` as (label, folder)."""
     if "=" not in value:
         raise argparse.ArgumentTypeError(f"{value!r}: expected LABEL=RUN_DIR")
-    label, folder = value.split("=", 1)
+    label, folder = value.rsplit("=", 1)  # a label may hold "=", a folder seldom does
     return label, Path(folder)
 
 
@@ -47,10 +47,13 @@ runs = args.runs + (study_points(args.study) if args.study else [])
 if not runs:
     parser.error("runs: give LABEL=RUN_DIR or --study STUDY_DIR")
 
-curves = []
-for label, folder in runs:
-    if (folder / "results.h5").is_file():
-        curves.append((label, read_results(folder / "results.h5")))
+for label, folder in args.runs:
+    if not (folder / "results.h5").is_file():
+        parser.error(f"{label}={folder}: no results.h5 there; give a run folder")
+# A study's point that failed has no results.h5: it is left out.
+curves = [
+    (label, read_results(f / "results.h5")) for label, f in runs if (f / "results.h5").is_file()
+]
 marks = not args.no_paper_marks
 compacted = any("compaction" in data for _, data in curves)
 sheared = any("shear" in data for _, data in curves)
