@@ -23,7 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from ncf2lammps import load_spec, run, run_scenes
+from ncf2lammps import copy_manufactured, load_spec, run, run_scenes
 from ncf2lammps.io.results import read_results
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -130,9 +130,10 @@ def main() -> None:
         if args.half:
             half = folder.with_name(folder.name + "-half")
             shutil.rmtree(half, ignore_errors=True)
-            shutil.copytree(folder, half)
             tests = [s for s in ("compaction", "shear") if s in results]
-            slow = read_results(run_scenes(_halved(spec), half, tests, ranks=args.np))
+            halved = _halved(spec)
+            copy_manufactured(halved, folder, half, tests)
+            slow = read_results(run_scenes(halved, half, tests, ranks=args.np))
             slow_outputs = _outputs(slow)
             report["half"] = {
                 "scenes": _scenes(slow),

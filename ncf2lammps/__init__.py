@@ -16,7 +16,7 @@ __version__ = "0.1.0"
 from .model import Model, build_model
 from .numerics import Prepared, prepare, time_step
 from .orchestration.build import build
-from .orchestration.run import run, run_scenes
+from .orchestration.run import copy_manufactured, run, run_scenes
 from .spec import FabricSpec, SpecError, load_spec, spec_from_dict
 
 __all__ = [
@@ -27,6 +27,7 @@ __all__ = [
     "__version__",
     "build",
     "build_model",
+    "copy_manufactured",
     "load_spec",
     "prepare",
     "run",

@@ -20,8 +20,8 @@ for factor in (1.0, 0.5):
     inertial = spec.compaction.inertial_number * factor
     target = folder / f"I{inertial:g}"
     shutil.rmtree(target, ignore_errors=True)
-    shutil.copytree(base, target)
     variant = spec.replace(compaction={"inertial_number": inertial})
+    n2l.copy_manufactured(variant, base, target, ["compaction"])
     attrs = read_results(n2l.run_scenes(variant, target, ["compaction"]))["compaction"]["attrs"]
     rows.append((inertial, attrs["thickness_at_1kPa_mm"], attrs["thickness_at_18kPa_mm"]))
     print(

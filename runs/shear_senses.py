@@ -39,7 +39,7 @@ for factor in args.rates:
     results = read_results(folder / "results.h5") if folder.is_dir() else {}
     if not {"shear", "shear_negative"} <= results.keys():
         shutil.rmtree(folder, ignore_errors=True)
-        shutil.copytree(args.manufactured, folder)
+        n2l.copy_manufactured(spec, args.manufactured, folder, ["shear", "shear_negative"])
         results = read_results(n2l.run_scenes(spec, folder, ["shear", "shear_negative"], args.np))
         write_report(folder)  # summary.md with the asymmetry, figures/shear_force.png
     senses = {}

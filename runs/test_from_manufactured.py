@@ -7,11 +7,11 @@ run side by side (each on its own ranks).
 """
 
 import argparse
-import shutil
 from pathlib import Path
 
 import ncf2lammps as n2l
-from ncf2lammps.io.results import read_results
+from ncf2lammps.io.results import mark_complete, read_results
+from ncf2lammps.orchestration.report import write_report
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("spec", type=Path)
@@ -35,7 +35,10 @@ if args.kinetic_stress_target is not None:
     spec = spec.replace(**{args.scene: {"kinetic_stress_target": args.kinetic_stress_target}})
 if args.output.exists():
     parser.error(f"output = {args.output}: exists; choose a new folder")
-shutil.copytree(args.manufactured, args.output)
-results = read_results(n2l.run_scenes(spec, args.output, [args.scene], ranks=args.np))
+n2l.copy_manufactured(spec, args.manufactured, args.output, [args.scene])
+path = n2l.run_scenes(spec, args.output, [args.scene], ranks=args.np)
+mark_complete(path)
+write_report(args.output)  # summary.md and figures of what ran here
+results = read_results(path)
 attrs = results[args.scene]["attrs"]
 print({key: attrs[key] for key in sorted(attrs) if not key.startswith("reference")})

@@ -11,9 +11,10 @@ import numpy as np
 import pytest
 from conftest import kill_after_checkpoint, tiny_spec
 
+from ncf2lammps import copy_manufactured, load_spec
 from ncf2lammps.analysis.study import pareto_front, relative_errors
-from ncf2lammps.io.results import read_results
-from ncf2lammps.io.spectoml import write_spec
+from ncf2lammps.io.results import read_results, write_root, write_scene
+from ncf2lammps.io.spectoml import dumps_spec, write_spec
 from ncf2lammps.orchestration.study import (
     KNOBS,
     _write_tables,
@@ -180,6 +181,30 @@ def test_settings_are_compared_seed_by_seed_where_the_grid_holds_seeds(tmp_path)
     _write_tables(tmp_path, spec, points, reference, rows[:2], ["shear"], 0.03)
     text = (tmp_path / "study.md").read_text()
     assert "no fastest point is named" in text and "Fastest" not in text
+
+
+def test_a_copied_manufactured_folder_carries_the_new_spec_and_not_the_scenes_checkpoints(
+    tmp_path,
+):
+    """copy_manufactured: the copy's spec.resolved.toml and results.h5 root hold the spec it will
+    run (its summary describes what runs there), the source's checkpoints of the scenes to run
+    are left behind, the others (and the scenes' results) are copied."""
+    old, new = tiny_spec(), tiny_spec().replace(compaction={"inertial_number": 0.0125})
+    source = tmp_path / "source"
+    source.mkdir()
+    write_spec(source / "spec.resolved.toml", old)
+    write_root(source / "results.h5", {"spec_toml": dumps_spec(old)})
+    write_scene(source / "results.h5", "manufacture", {"steps": 10})
+    for name in ("compaction.checkpoint.json", "compaction.checkpoint.20.restart"):
+        (source / name).write_text("")
+    (source / "manufacture.checkpoint.json").write_text("")
+    copy_manufactured(new, source, tmp_path / "copy", ["compaction"])
+    copied = sorted(p.name for p in (tmp_path / "copy").iterdir())
+    assert copied == ["manufacture.checkpoint.json", "results.h5", "spec.resolved.toml"]
+    assert load_spec(tmp_path / "copy" / "spec.resolved.toml") == new
+    results = read_results(tmp_path / "copy" / "results.h5")
+    assert results["attrs"]["spec_toml"] == dumps_spec(new) != dumps_spec(old)
+    assert results["manufacture"]["attrs"]["steps"] == 10
 
 
 def test_bad_knob_or_value_is_one_line_exit_2(tmp_path):

@@ -35,7 +35,7 @@ from pathlib import Path
 
 from .. import __version__
 from ..engine import Checkpoints, EngineError, UnstableRunError, lammps_version
-from ..io.results import mark_complete, write_root, write_scene
+from ..io.results import mark_complete, update_root, write_root, write_scene
 from ..io.spectoml import dumps_spec, write_spec
 from ..numerics import Prepared, prepare
 from ..scenes import SCENES, Deck, applicable_scenes, render_deck
@@ -44,7 +44,7 @@ from .build import build, check_ranks
 from .folder import RunFolder, RunFolderError, check_run_folder
 from .report import write_report
 
-__all__ = ["checkpoints", "mpiexec", "run", "run_scenes", "scenes_to_run"]
+__all__ = ["checkpoints", "copy_manufactured", "mpiexec", "run", "run_scenes", "scenes_to_run"]
 
 _log = logging.getLogger(__name__)
 
@@ -123,6 +123,23 @@ def run_scenes(
         }
         write_scene(results, scene, attrs, datasets)
     return results
+
+
+def copy_manufactured(
+    spec: FabricSpec, source: str | os.PathLike, directory: str | os.PathLike, scenes: Sequence[str]
+) -> None:
+    """Copy the run folder ``source`` (manufactured) to the new ``directory`` to run ``scenes``
+    of ``spec`` there with :func:`run_scenes`: without the source's checkpoints of those
+    scenes, and with ``spec`` as the folder's spec (``spec.resolved.toml``, results.h5's root),
+    so that its summary describes what runs there."""
+    directory = Path(directory)
+    checkpoint_files = shutil.ignore_patterns(*(Checkpoints(scene).files for scene in scenes))
+    shutil.copytree(source, directory, ignore=checkpoint_files)
+    write_spec(directory / "spec.resolved.toml", spec)
+    update_root(
+        directory / "results.h5",
+        {"spec_toml": dumps_spec(spec), "created": datetime.now(UTC).isoformat(timespec="seconds")},
+    )
 
 
 def mpiexec() -> str:

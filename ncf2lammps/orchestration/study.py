@@ -32,7 +32,6 @@ import sys
 import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass
-from datetime import UTC, datetime
 from itertools import product
 from pathlib import Path
 
@@ -40,17 +39,17 @@ import numpy as np
 
 from ..analysis.plots import plot_study
 from ..analysis.study import pareto_front, relative_errors
-from ..engine import Checkpoints, EngineError
+from ..engine import EngineError
 from ..geometry.size import check_model_size
-from ..io.results import ResultsFileError, mark_complete, read_results, update_root
-from ..io.spectoml import dumps_spec, write_spec
+from ..io.results import ResultsFileError, mark_complete, read_results
+from ..io.spectoml import dumps_spec
 from ..io.table import write_csv
 from ..scenes import kinetic_checks, quasi_static
 from ..spec import FabricSpec, SpecError
 from .build import OutputExistsError
 from .folder import abandoned_temporary_folders, temporary_folder
 from .report import write_report
-from .run import run, run_scenes, scenes_to_run
+from .run import copy_manufactured, run, run_scenes, scenes_to_run
 
 __all__ = [
     "ENSEMBLE_KNOBS",
@@ -371,21 +370,10 @@ def _run_from_manufactured(
     killed = _killed_partial(directory, point.spec)
     if killed is not None:
         killed.rename(partial)
-    else:  # never a moment with the source's checkpoints of the scenes to run in the copy
-        checkpoints = shutil.ignore_patterns(*(Checkpoints(scene).files for scene in todo))
-        shutil.copytree(source, partial, ignore=checkpoints)
     try:
-        results = partial / "results.h5"
-        if killed is None:
-            write_spec(partial / "spec.resolved.toml", point.spec)
-            update_root(
-                results,
-                {
-                    "spec_toml": dumps_spec(point.spec),
-                    "created": datetime.now(UTC).isoformat(timespec="seconds"),
-                },
-            )
-        run_scenes(point.spec, partial, todo, ranks=ranks, resume=killed is not None)
+        if killed is None:  # never a moment with the source's checkpoints of the scenes to run
+            copy_manufactured(point.spec, source, partial, todo)
+        results = run_scenes(point.spec, partial, todo, ranks=ranks, resume=killed is not None)
         mark_complete(results)
         shutil.rmtree(directory, ignore_errors=True)
         partial.rename(directory)
