@@ -51,6 +51,11 @@ _NOT_REPLAYED = frozenset(
 )
 
 
+def _recorded_wall(state: dict | None) -> float:
+    """The wall time (s) a checkpoint record holds: 0 without one, NaN if it does not say."""
+    return 0.0 if state is None else float(state.get("wall_s", math.nan))
+
+
 def strip_comment(raw: str) -> str:
     """A deck line without its comment (``print`` lines are kept whole)."""
     if raw.lstrip().startswith("print"):
@@ -82,8 +87,7 @@ class Checkpoints:
     def wall_before(self, directory: str | os.PathLike = ".") -> float:
         """Wall time (s) spent on the steps up to the last checkpoint, every segment of a resumed
         run included (0 without a checkpoint; NaN if its record does not say)."""
-        state = self.state(directory)
-        return 0.0 if state is None else float(state.get("wall_s", math.nan))
+        return _recorded_wall(self.state(directory))
 
     @property
     def files(self) -> str:
@@ -156,7 +160,7 @@ class Journal:
         if state is None:
             raise EngineError(f"{self.name}: no checkpoint to resume from")
         self.previous = state["restart"]
-        self.wall_before = Checkpoints(self.name).wall_before()
+        self.wall_before = _recorded_wall(state)
         return state
 
     def checkpoint(self, stage: str, number: int) -> None:
