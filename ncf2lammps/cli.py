@@ -282,7 +282,9 @@ def _folder_verbs(verbs) -> None:
         "validate", help="run the analytical validation cases; print and write the table"
     )
     validate.add_argument("-o", "--output", default="validation", help="folder for logs and plots")
-    validate.add_argument("--full", action="store_true", help="all cases (default: fast subset)")
+    validate.add_argument(
+        "--full", action="store_true", help="full forms (default: the fast form of every case)"
+    )
     validate.add_argument("--case", action="append", help="run only this case (repeat)")
     validate.set_defaults(func=_validate)
 

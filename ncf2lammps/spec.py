@@ -747,7 +747,8 @@ def _check_scalar(path: str, meta, default, value: Any) -> Any:
         return value
     if isinstance(default, str):
         if not isinstance(value, str):
-            raise SpecError(path, value, "must be a string")
+            choices = f": one of {', '.join(meta['choices'])}" if meta["choices"] else ""
+            raise SpecError(path, value, f"must be a string{choices}")
         if meta["choices"] and value not in meta["choices"]:
             raise SpecError(path, value, f"must be one of {', '.join(meta['choices'])}")
         if len(value) > 200:
@@ -780,8 +781,13 @@ def _range_text(meta) -> str:
         return ""
     left = "(" if meta["lo_open"] else "["
     right = ")" if meta["hi_open"] else "]"
-    unit = f" {meta['unit']}" if meta["unit"] else ""
-    return f" {left}{lo:g}, {hi:g}{right}{unit}"
+    unit = f" {meta['unit']}" if meta["unit"] not in (None, "", "-") else ""
+    return f" {left}{_bound_text(lo)}, {_bound_text(hi)}{right}{unit}"
+
+
+def _bound_text(bound: float) -> str:
+    """A range bound as written: whole numbers to every digit, others in ``%g``."""
+    return str(bound) if isinstance(bound, int) else f"{bound:g}"
 
 
 def _build(cls: type, table: Any, path: str):
@@ -878,6 +884,16 @@ def _check_consistency(spec: FabricSpec) -> None:
             manufacture.creep_window_us,
             "is only read with manufacture.stitch_creep_target_per_ms set",
         )
+    for table in ("compaction", "shear"):
+        settings = getattr(spec, table)
+        if settings.loading == "constant":
+            for key in ("max_rate_factor", "kinetic_stress_target"):
+                if getattr(settings, key) != getattr(type(settings)(), key):
+                    raise SpecError(
+                        f"{table}.{key}",
+                        getattr(settings, key),
+                        f"is only read with {table}.loading = 'adaptive'",
+                    )
     _check_bundle(spec)
     _check_random_bed(spec)
     _check_shear(spec)
@@ -1061,6 +1077,12 @@ def load_spec(path: str | Path) -> FabricSpec:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise SpecError("<file>", shown, f"is not valid TOML ({err})") from None
+    except RecursionError:
+        raise SpecError(
+            "<file>",
+            shown,
+            "nests arrays or tables too deeply to read: a spec is a few flat tables",
+        ) from None
     if not data:
         raise SpecError(
             "<file>", shown, "is empty: a spec needs [[ply]] tables (see runs/*/spec.toml)"

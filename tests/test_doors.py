@@ -103,12 +103,13 @@ def place(tmp_path_factory):
     (root / "latin1.toml").write_bytes(b'[fabric]\nname = "caf\xe9"\n')
     (root / "not-toml.toml").write_text("this is not = = toml [\n")
     (root / "huge.toml").write_text("# " + "x" * 1_100_000 + "\n")
+    (root / "deep.toml").write_text("x = " + "[" * 1000 + "]" * 1000 + "\n")  # 2 kB, too deep
     (root / "spec-dir").mkdir()
     shutil.copy(files["spec"], root / "spec-dir" / "spec.toml")
     files.update(
         {
             name: root / f"{name}.toml"
-            for name in ("empty", "comments", "random", "latin1", "not-toml", "huge")
+            for name in ("empty", "comments", "random", "latin1", "not-toml", "huge", "deep")
         }
     )
     files["spec_dir"] = root / "spec-dir"
@@ -204,7 +205,17 @@ def place(tmp_path_factory):
 
 # -- spec files ----------------------------------------------------------------------------------
 
-SPEC_FILES = ("missing", "spec_dir", "empty", "comments", "random", "latin1", "not-toml", "huge")
+SPEC_FILES = (
+    "missing",
+    "spec_dir",
+    "empty",
+    "comments",
+    "random",
+    "latin1",
+    "not-toml",
+    "huge",
+    "deep",
+)
 
 
 @pytest.mark.parametrize("name", SPEC_FILES)
@@ -316,6 +327,19 @@ REFUSED_BY_REPORT = (
 )
 
 
+def test_a_final_fvf_reached_before_the_plates_move_is_refused(capsys, tmp_path):
+    """A compaction.final_fvf at or below the Vf at which the plates start would give a
+    compaction of no step: check and build refuse it, naming the Vf to exceed."""
+    data = fast_spec().to_dict()
+    data["compaction"].update(end="final_fvf", final_fvf=0.2)  # the mat starts at Vf 0.3
+    spec_file = tmp_path / "spec.toml"
+    spec_file.write_text(_toml(data))
+    for argv in (["check", spec_file], ["build", spec_file, "-o", tmp_path / "out"]):
+        _, err = door(capsys, *argv)
+        assert err.startswith("ncf2lammps: error: compaction.final_fvf = 0.2") and "above" in err
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.parametrize("name", REFUSED_BY_REPORT)
 def test_report_refuses_what_is_not_a_reportable_run(capsys, place, name):
     _, _, folders = place
@@ -380,6 +404,30 @@ def test_force_does_not_replace_a_file(capsys, place, verb):
     _, files, folders = place
     door(capsys, verb, files["spec"], "-o", folders["a_file"], "--force")
     assert folders["a_file"].read_text() == "x"
+
+
+@pytest.mark.parametrize("verb", ["build", "run", "export"])
+def test_force_replaces_only_an_ncf2lammps_folder(capsys, place, verb):
+    """--force replaces a run, build or export folder (one holding spec.resolved.toml), never a
+    folder of other files: a mistyped -o does not delete it."""
+    _, files, folders = place
+    _, err = door(capsys, verb, files["spec"], "-o", folders["stranger"], "--force")
+    assert "no ncf2lammps output" in err
+    assert [p.name for p in folders["stranger"].iterdir()] == ["notes.txt"]
+
+
+@pytest.mark.parametrize("verb", ["build", "run", "export"])
+def test_the_current_folder_is_not_an_output(capsys, place, tmp_path, monkeypatch, verb):
+    """A folder built elsewhere and renamed into place cannot be the current folder or one that
+    holds it (the shell would be left in a deleted folder; --force would delete the parent)."""
+    _, files, _ = place
+    here = tmp_path / "here"
+    here.mkdir()
+    monkeypatch.chdir(here)
+    for target, force in ((".", ()), ("./", ("--force",)), ("..", ("--force",))):
+        _, err = door(capsys, verb, files["spec"], "-o", target, *force)
+        assert "current folder" in err
+    assert not any(here.iterdir()) and [p.name for p in tmp_path.iterdir()] == ["here"]
 
 
 def _unwritable(root: Path) -> list[Path]:
@@ -461,6 +509,10 @@ def test_validate_refuses_a_file_and_an_unknown_case(capsys, place, tmp_path):
         ["study", "{spec}", "-o", "{new}", "--vary", "numerics.dt_fraction=nan"],
         ["study", "{spec}", "-o", "{new}", "--vary", "numerics.dt_fraction=0.5,9"],
         ["study", "{spec}", "-o", "{new}", "--vary", "numerics.dt_fraction=1979-05-27"],
+        ["study", "{spec}", "-o", "{new}", "--vary", "numerics.dt_fraction=0.5,,0.4"],
+        # in range, but above the stable time step: refused by the point's build check
+        ["study", "{spec}", "-o", "{new}", "--vary", "numerics.dt_fraction=0.5,1.5"],
+        ["build", "{spec}", "-o", "{new}/" + "x" * 300],
         [
             "study",
             "{spec}",
@@ -525,6 +577,8 @@ def test_good_doors_succeed(capsys, place, tmp_path):
     door(capsys, "build", files["spec"], "-o", tmp_path / "b", succeed=True)
     door(capsys, "export", files["spec"], "-o", tmp_path / "e", succeed=True)
     door(capsys, "build", files["spec"], "-o", tmp_path / "b", "--force", succeed=True)
+    door(capsys, "build", files["spec"], "-o", tmp_path / "n" / "sub" / "..", succeed=True)
+    assert (tmp_path / "n" / "model.data").is_file() and not (tmp_path / "n" / "sub").exists()
 
 
 # -- the size of a model, known before it is built -----------------------------------------------

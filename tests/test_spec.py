@@ -43,7 +43,18 @@ def test_cases_load_and_resolve_round_trip(case, tmp_path):
         ({"compaction": {"max_pressure_kPa": 10.0}}, "compaction.max_pressure_kPa", "[20, 1e+07]"),
         ({"compaction": {"end": "gap"}}, "compaction.end", "max_pressure, final_fvf"),
         ({"compaction": {"loading": "fast"}}, "compaction.loading", "adaptive, constant"),
-        ({"shear": {"loading": 1}}, "shear.loading", "must be a string"),
+        ({"shear": {"loading": 1}}, "shear.loading", "must be a string: one of adaptive, constant"),
+        ({"mat": {"seed": 2**31}}, "mat.seed", "allowed [0, 2147483647]"),
+        (  # the shear loads at a constant rate by default: no brake to set
+            {"shear": {"kinetic_stress_target": 0.01}},
+            "shear.kinetic_stress_target",
+            "only read with shear.loading = 'adaptive'",
+        ),
+        (
+            {"compaction": {"loading": "constant", "max_rate_factor": 4.0}},
+            "compaction.max_rate_factor",
+            "only read with compaction.loading = 'adaptive'",
+        ),
         ({"compaction": {"max_rate_factor": 0.5}}, "compaction.max_rate_factor", "[1, 10000]"),
         ({"shear": {"max_rate_factor": -2.0}}, "shear.max_rate_factor", "[1, 10000]"),
         (

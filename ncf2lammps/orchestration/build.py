@@ -20,7 +20,15 @@ from ..scenes import Deck, applicable_scenes, render_deck
 from ..spec import FabricSpec, SpecError
 from .folder import RunFolderError, check_output, temporary_folder
 
-__all__ = ["MAX_RANKS", "Build", "OutputExistsError", "build", "check_ranks", "prepare_output"]
+__all__ = [
+    "MAX_RANKS",
+    "Build",
+    "OutputExistsError",
+    "build",
+    "check_ranks",
+    "prepare_output",
+    "render_decks",
+]
 
 #: Largest number of MPI ranks accepted (``--np``).
 MAX_RANKS = 4096
@@ -60,6 +68,15 @@ class Build:
         return self.run.contact
 
 
+def render_decks(run: Prepared, plain_lmp: bool = False) -> dict[str, Deck]:
+    """The run's decks by name (``verify`` and every scene the spec supports); raises
+    :class:`~ncf2lammps.spec.SpecError` where a value makes a scene impossible."""
+    return {
+        name: render_deck(run, name, plain_lmp=plain_lmp)
+        for name in ("verify", *applicable_scenes(run.spec))
+    }
+
+
 def prepare_output(directory: str | os.PathLike, force: bool = False) -> tuple[Path, Path]:
     """(final, partial) paths; refuses an existing non-empty folder unless ``force``, and a
     file or an unwritable place always (:func:`~ncf2lammps.orchestration.folder.check_output`)."""
@@ -92,10 +109,9 @@ def build(
         write_data(partial / "model.data", run.simulated)
         write_spec(partial / "spec.resolved.toml", run.spec)
         (partial / "decks").mkdir()
-        decks = {}
-        for name in ("verify", *applicable_scenes(run.spec)):
-            decks[name] = render_deck(run, name, plain_lmp=plain_lmp)
-            (partial / "decks" / f"in.{name}.lmp").write_text(decks[name].text)
+        decks = render_decks(run, plain_lmp)
+        for name, deck in decks.items():
+            (partial / "decks" / f"in.{name}.lmp").write_text(deck.text)
         if finish is not None:
             finish(partial, run.model)
         if final.exists():

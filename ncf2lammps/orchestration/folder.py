@@ -211,17 +211,40 @@ def _check_run_folder(directory: Path, need: str) -> RunFolder:
 def check_output(
     path: str | os.PathLike, force: bool = False, study: bool = False, make: bool = False
 ) -> Path:
-    """Check that ``-o path`` can become the output folder; returns it (made if ``make``).
+    """Check that ``-o path`` can become the output folder; returns it (``..`` resolved in the
+    path's text; made now if ``make``).
 
-    Refused: an existing file (even with ``force``), a path below a file, a place that cannot be
+    ``make``: the verb writes into the folder where it is (``validate``, ``study``); otherwise
+    the folder is built under a temporary name and renamed into place, replacing the folder
+    with ``force`` (``run``, ``build``, ``export``). Refused: an existing file (even with
+    ``force``), a path below a file, a name the system cannot take, a place that cannot be
     written; without ``force`` a non-empty folder (a killed run's is pointed to ``--resume``)
     unless ``study`` (a study folder is continued; :func:`~ncf2lammps.orchestration.study.study`
-    checks it holds a study).
+    checks it holds a study); for a folder built elsewhere, the current folder or one holding
+    it, and with ``force`` a non-empty folder that holds no ncf2lammps output
+    (``spec.resolved.toml``): ``force`` replaces runs, not arbitrary folders.
     """
-    final = Path(path)
-    if final.exists() and not final.is_dir():
+    final = Path(os.path.normpath(path))
+    try:
+        exists = final.exists()
+    except OSError as err:
+        raise RunFolderError(final, f"cannot be used ({err.strerror}): choose another -o") from None
+    if exists and not final.is_dir():
         raise RunFolderError(final, "is a file, not a folder: choose another -o")
-    if final.is_dir() and not force and not study and any(final.iterdir()):
+    if not make and final.resolve() in (Path.cwd(), *Path.cwd().parents):
+        raise RunFolderError(
+            final,
+            "is the current folder or holds it: the output is built under a temporary name and"
+            " moved into place, so give a new folder (e.g. -o out)",
+        )
+    nonempty = exists and any(final.iterdir())
+    if nonempty and force and not make and not (final / "spec.resolved.toml").is_file():
+        raise RunFolderError(
+            final,
+            "is not empty and holds no ncf2lammps output (no spec.resolved.toml): --force only"
+            " replaces a run, build or export folder; choose another -o",
+        )
+    if nonempty and not force and not study:
         why = "exists and is not empty (choose another -o or --force)"
         if (final / "results.h5").is_file():
             try:
@@ -244,6 +267,13 @@ def check_output(
     if not os.access(ancestor, os.W_OK | os.X_OK):
         raise RunFolderError(
             final, f"cannot be made: {ancestor} is not writable (choose another -o)"
+        )
+    name_max = os.pathconf(ancestor, "PC_NAME_MAX")
+    longest = max(len(os.fsencode(part)) for part in final.parts)
+    temporary = len(os.fsencode(final.name if make else temporary_folder(final).name))
+    if max(longest, temporary) > name_max:
+        raise RunFolderError(
+            final, f"cannot be made: a name in it is longer than the {name_max} bytes allowed"
         )
     if make:
         try:

@@ -3,8 +3,8 @@
 Stages of :func:`study`:
 
 1. the grid: the product of the ``--vary`` value lists (``zip``: their position-wise pairs),
-   every point's spec validated before anything runs; the reference is the point whose knobs
-   all sit at their conservative end (:data:`KNOBS`: finest, slowest, unscaled);
+   every point checked as ``build`` checks it before anything runs; the reference is the point
+   whose knobs all sit at their conservative end (:data:`KNOBS`: finest, slowest, unscaled);
 2. each point runs in ``points/pNN`` like ``ncf2lammps run``; a point whose results are
    complete for the same spec is reused, and one killed while it ran resumes from its
    checkpoint (status ``ok (resumed)``; its wall time counts every segment up to the last
@@ -44,9 +44,10 @@ from ..geometry.size import check_model_size
 from ..io.results import ResultsFileError, mark_complete, read_results
 from ..io.spectoml import dumps_spec
 from ..io.table import write_csv
+from ..numerics import prepare
 from ..scenes import kinetic_checks, quasi_static
 from ..spec import FabricSpec, SpecError
-from .build import OutputExistsError
+from .build import OutputExistsError, render_decks
 from .folder import abandoned_temporary_folders, temporary_folder
 from .report import write_report
 from .run import copy_manufactured, run, run_scenes, scenes_to_run
@@ -128,8 +129,11 @@ def parse_vary(text: str) -> tuple[str, list]:
         raise SpecError(
             "--vary", text, f"must be KNOB=V1,V2,... with KNOB one of {', '.join(KNOBS)}"
         )
+    items = [v.strip() for v in values.split(",")] if values.strip() else []
+    if "" in items:
+        raise SpecError("--vary", text, "has an empty value between commas: give KNOB=V1,V2,...")
     try:
-        parsed = [_knob_value(v.strip()) for v in values.split(",") if v.strip()]
+        parsed = [_knob_value(item) for item in items]
     except tomllib.TOMLDecodeError:
         raise SpecError(
             "--vary", text, "values must be numbers or words (a choice) separated by commas"
@@ -163,7 +167,9 @@ class StudyPoint:
 def study_grid(
     spec: FabricSpec, vary: Sequence[tuple[str, list]], zipped: bool = False
 ) -> tuple[list[StudyPoint], int]:
-    """The grid's points (specs validated) and the index of the reference point."""
+    """The grid's points and the index of the reference point. Every point is checked as
+    ``build`` checks it (its model, time step and decks: :class:`SpecError` naming the field)
+    before anything runs."""
     names = [knob for knob, _ in vary]
     if len(set(names)) != len(names):
         raise SpecError("--vary", names, "each knob at most once")
@@ -179,6 +185,7 @@ def study_grid(
             tables.setdefault(table, {})[field_name] = value
         point_spec = spec.replace(**tables) if tables else spec
         check_model_size(point_spec)
+        render_decks(prepare(point_spec))
         points.append(StudyPoint(f"p{index:02d}", dict(zip(names, combo, strict=True)), point_spec))
     conservative = [_reference_value(KNOBS[knob], values) for knob, values in vary]
     reference = [i for i, c in enumerate(combos) if list(c) == conservative]

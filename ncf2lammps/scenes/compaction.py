@@ -26,7 +26,7 @@ from ..analysis.plots import paper_comparable, plot_compaction
 from ..io.lammpslog import read_ave_time, scene_steps
 from ..model import Model
 from ..numerics import Prepared, inertial_strain_rate
-from ..spec import FabricSpec
+from ..spec import FabricSpec, SpecError
 from . import stitch
 from .base import Scene
 from .loading import LoadingControl, loading_attrs, loading_control
@@ -82,7 +82,15 @@ def deck_values(run: Prepared) -> dict:
     if spec.mat.arrangement == "random":
         faces *= RANDOM_BED_SWELL
     start_gap = faces + float(model.diameter.max())
-    travel = max(start_gap - _final_gap(spec, model), 0.0)
+    travel = start_gap - _final_gap(spec, model)
+    if travel <= 0.0:
+        start_fvf = model.fibre_volume / (model.cell_area * start_gap)
+        raise SpecError(
+            "compaction.final_fvf",
+            spec.compaction.final_fvf,
+            f"is reached before the plates move (they start at a gap of {start_gap:.0f} um,"
+            f" Vf {start_fvf:.3f}): allowed above {start_fvf:.3f}",
+        )
     return {
         "restart_file": "manufactured.restart" if spec.stitch is not None else None,
         "contact": run.contact,
