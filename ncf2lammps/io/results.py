@@ -1,8 +1,8 @@
 """results.h5: one group per scene, 1-D float64 datasets of equal length, scalar attributes.
 
-Names follow the contract in docs/design.md section 4. A group carries ``complete = False`` until its
-scene finishes; the file's root ``complete`` is set last, so a killed run never leaves a file
-that looks complete.
+Names follow the contract in docs/design.md section 4. A group carries ``complete = False``
+until its scene finishes; the file's root ``complete`` is set last, so a killed run never leaves
+a file that looks complete.
 """
 
 from __future__ import annotations
