@@ -430,6 +430,21 @@ def test_the_current_folder_is_not_an_output(capsys, place, tmp_path, monkeypatc
     assert not any(here.iterdir()) and [p.name for p in tmp_path.iterdir()] == ["here"]
 
 
+def test_a_relative_output_in_a_deleted_current_folder_is_refused(
+    capsys, place, tmp_path, monkeypatch
+):
+    """The shell's folder deleted under it: a relative -o is refused in one line, an absolute
+    one is built."""
+    _, files, _ = place
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    monkeypatch.chdir(gone)
+    gone.rmdir()
+    _, err = door(capsys, "build", files["spec"], "-o", "out")
+    assert "current folder that is gone" in err
+    door(capsys, "build", files["spec"], "-o", tmp_path / "out", succeed=True)
+
+
 def _unwritable(root: Path) -> list[Path]:
     """Places -o cannot be made in: below a file, in /sys; a read-only folder unless root."""
     places = [root / "a-file" / "sub"]

@@ -231,7 +231,15 @@ def check_output(
         raise RunFolderError(final, f"cannot be used ({err.strerror}): choose another -o") from None
     if exists and not final.is_dir():
         raise RunFolderError(final, "is a file, not a folder: choose another -o")
-    if not make and final.resolve() in (Path.cwd(), *Path.cwd().parents):
+    try:
+        here = Path.cwd()
+    except OSError as err:  # the current folder was deleted under the shell
+        if not final.is_absolute():
+            raise RunFolderError(
+                final, f"is relative to a current folder that is gone ({err.strerror})"
+            ) from None
+        here = None
+    if not make and here is not None and final.resolve() in (here, *here.parents):
         raise RunFolderError(
             final,
             "is the current folder or holds it: the output is built under a temporary name and"
