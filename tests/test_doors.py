@@ -11,6 +11,7 @@ the end of the module and crashed must be 0.
 from __future__ import annotations
 
 import dataclasses
+import json
 import os
 import shutil
 import subprocess
@@ -185,6 +186,7 @@ def place(tmp_path_factory):
     folders["h5_dir"] = root / "h5-dir"
     shutil.copytree(built.directory, folders["h5_dir"])
     (folders["h5_dir"] / "results.h5").mkdir()
+    folders.update(_damaged_folders(root, folders))
     folders["empty"] = root / "empty"
     folders["empty"].mkdir()
     folders["stranger"] = root / "stranger"
@@ -201,6 +203,36 @@ def place(tmp_path_factory):
     folders["a_file"] = root / "a-file"
     folders["a_file"].write_text("x")
     return root, files, folders
+
+
+def _damaged_folders(root: Path, folders: dict) -> dict:
+    """Run folders whose results.h5, checkpoint or layout a hand (or a disk) damaged."""
+    made = {}
+
+    def copy(name: str, of: str) -> Path:
+        made[name] = root / name.replace("_", "-")
+        shutil.copytree(folders[of], made[name])
+        return made[name]
+
+    with h5py.File(copy("h5_2d", "finished") / "results.h5", "a") as fh:
+        del fh["compaction/gap_mm"]
+        fh["compaction/gap_mm"] = np.ones((50, 2))
+    with h5py.File(copy("h5_text_complete", "finished") / "results.h5", "a") as fh:
+        fh.attrs["complete"] = "False"  # read as true, a killed run would look finished
+    with h5py.File(copy("h5_no_gap", "finished") / "results.h5", "a") as fh:
+        del fh["compaction/gap_mm"]
+    (copy("figures_file", "finished") / "figures").write_text("x")
+    (copy("checkpoint_damaged", "killed") / "compaction.checkpoint.json").write_text("{not json")
+    record = {"step": 100, "restart": "compaction.checkpoint.100.restart", "line": 5}
+    folder = copy("checkpoint_no_journal", "killed")
+    (folder / "compaction.checkpoint.json").write_text(
+        json.dumps({**record, "stage": "compaction", "internal": {}})
+    )
+    (folder / record["restart"]).write_text("")
+    folder = copy("decks_file", "killed")
+    shutil.rmtree(folder / "decks")
+    (folder / "decks").write_text("x")
+    return made
 
 
 # -- spec files ----------------------------------------------------------------------------------
@@ -324,6 +356,8 @@ REFUSED_BY_REPORT = (
     "h5_tail_lost",
     "h5_foreign",
     "h5_dir",
+    "h5_2d",
+    "h5_text_complete",
 )
 
 
@@ -355,6 +389,21 @@ def test_resume_refuses_what_cannot_be_resumed(capsys, place, name):
         pytest.skip("resumable: it would start LAMMPS (tests/test_hpc.py resumes a killed run)")
     _, err = door(capsys, "run", files["spec"], "-o", folders[name], "--resume")
     assert "--resume" in err
+
+
+@pytest.mark.parametrize("name", ["h5_no_gap", "figures_file"])
+def test_report_refuses_a_run_missing_what_its_scenes_write(capsys, place, name):
+    _, _, folders = place
+    _, err = door(capsys, "report", folders[name])
+    assert str(folders[name]) in err
+    assert not (folders[name] / "summary.md").exists()
+
+
+@pytest.mark.parametrize("name", ["checkpoint_damaged", "checkpoint_no_journal", "decks_file"])
+def test_resume_refuses_a_damaged_checkpoint_or_layout(capsys, place, name):
+    _, files, folders = place
+    _, err = door(capsys, "run", files["spec"], "-o", folders[name], "--resume")
+    assert "--resume" in err and "cannot be resumed" in err
 
 
 def test_resume_refuses_another_spec(capsys, place):
@@ -509,6 +558,9 @@ def test_validate_refuses_a_file_and_an_unknown_case(capsys, place, tmp_path):
         ["export", "{spec}", "-o", "{new}", "--time", "24:00"],
         ["export", "{spec}", "-o", "{new}", "--time", "24:00:00\n"],
         ["export", "{spec}", "-o", "{new}", "--time", "0:00:00"],
+        ["export", "{spec}", "-o", "{new}", "--time", "366-00:00:00"],
+        ["export", "{spec}", "-o", "{new}", "--time", "\uff11\uff12:00:00"],  # full-width 12
+        ["export", "{spec}", "-o", "{new}", "--module", "m" * 101],
         ["export", "{spec}", "-o", "{new}", "--time", "1:60:00"],
         ["export", "{spec}", "-o", "{new}", "--time", ""],
         ["export", "{spec}", "-o", "{new}", "--module", "gcc\nrm -rf /"],

@@ -8,9 +8,10 @@ resolve against the process's.
 
 from .core import Engine, EngineError, UnstableRunError, lammps_version, load_lammps
 from .deckrun import run_deck
-from .journal import Checkpoints
+from .journal import CheckpointError, Checkpoints
 
 __all__ = [
+    "CheckpointError",
     "Checkpoints",
     "Engine",
     "EngineError",

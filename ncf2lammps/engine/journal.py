@@ -20,7 +20,7 @@ from pathlib import Path
 
 from .core import Engine, EngineError
 
-__all__ = ["Checkpoints", "Journal", "replay", "strip_comment"]
+__all__ = ["CheckpointError", "Checkpoints", "Journal", "replay", "strip_comment"]
 
 #: Output files of fixes are appended to, not truncated, when a run is resumed.
 _APPEND = re.compile(r"^(fix\s+\S+\s+\S+\s+(?:ave/time|print)\b.*\s)file(\s)")
@@ -51,6 +51,45 @@ _NOT_REPLAYED = frozenset(
 )
 
 
+class CheckpointError(EngineError):
+    """A checkpoint a run cannot resume from; ``str()`` is one line naming the file and why."""
+
+
+#: The keys of a checkpoint record and their types (``wall_s``, a number, may be absent).
+_RECORD = {"step": int, "restart": str, "line": int, "stage": str, "internal": dict}
+
+
+def _read_record(path: Path) -> dict:
+    """The checkpoint record in ``path``, checked against :data:`_RECORD`."""
+    try:
+        state = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
+        raise CheckpointError(f"{path}: unreadable ({type(err).__name__})") from None
+    if not isinstance(state, dict):
+        raise CheckpointError(f"{path}: not a checkpoint record (a JSON object)")
+    for key, kind in _RECORD.items():
+        value = state.get(key)
+        if not isinstance(value, kind) or isinstance(value, bool):
+            raise CheckpointError(f"{path}: {key!r} is missing or not a {kind.__name__}")
+    if state["step"] < 0 or state["line"] < 0 or Path(state["restart"]).name != state["restart"]:
+        raise CheckpointError(f"{path}: a negative step or line, or a restart file elsewhere")
+    numbers = [state.get("wall_s", 0.0), *state["internal"].values()]
+    if not all(isinstance(v, int | float) and not isinstance(v, bool) for v in numbers):
+        raise CheckpointError(f"{path}: 'wall_s' or an internal variable is not a number")
+    return state
+
+
+def _journal_entries(path: Path) -> list[list]:
+    """The entries of a journal file (a line cut short by a kill is dropped)."""
+    out = []
+    for line in path.read_text().splitlines():
+        try:
+            out.append(json.loads(line))
+        except json.JSONDecodeError:
+            continue
+    return out
+
+
 def _recorded_wall(state: dict | None) -> float:
     """The wall time (s) a checkpoint record holds: 0 without one, NaN if it does not say."""
     return 0.0 if state is None else float(state.get("wall_s", math.nan))
@@ -77,12 +116,27 @@ class Checkpoints:
     resume: bool = False
 
     def state(self, directory: str | os.PathLike = ".") -> dict | None:
-        """The last checkpoint's record (step, restart file, run line, internal variables)."""
+        """The last checkpoint's record (step, restart file, run line, internal variables);
+        None without one or when its restart file is gone. Raises :class:`CheckpointError`
+        for a damaged record."""
         path = Path(directory) / f"{self.name}.checkpoint.json"
         if not path.is_file():
             return None
-        state = json.loads(path.read_text())
+        state = _read_record(path)
         return state if (Path(directory) / state["restart"]).is_file() else None
+
+    def check(self, directory: str | os.PathLike = ".") -> None:
+        """Raise :class:`CheckpointError` unless a resume can use the last checkpoint (if any):
+        a sound record whose run the deck's journal holds."""
+        state = self.state(directory)
+        if state is None:
+            return
+        journal = Path(directory) / f"{self.name}.journal"
+        entries = _journal_entries(journal) if journal.is_file() else []
+        if not any(e[:2] == ["R", state["line"]] for e in entries if isinstance(e, list)):
+            raise CheckpointError(
+                f"{journal}: holds no run at the checkpoint's deck line {state['line']}"
+            )
 
     def wall_before(self, directory: str | os.PathLike = ".") -> float:
         """Wall time (s) spent on the steps up to the last checkpoint, every segment of a resumed
@@ -147,13 +201,7 @@ class Journal:
 
     def entries(self) -> list[list]:
         """The journal's entries (a line cut short by a kill is dropped)."""
-        out = []
-        for line in self.path.read_text().splitlines():
-            try:
-                out.append(json.loads(line))
-            except json.JSONDecodeError:
-                continue
-        return out
+        return _journal_entries(self.path)
 
     def load(self) -> dict:
         state = Checkpoints(self.name).state()

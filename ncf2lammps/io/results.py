@@ -86,8 +86,8 @@ def read_results(path: str | os.PathLike) -> dict:
     """{"attrs": {...}, scene: {"attrs": {...}, dataset: array}} of a results file.
 
     Raises :class:`ResultsFileError` if the file is missing, empty, not HDF5, truncated or
-    corrupt (a run's file also carries :data:`ROOT_ATTRS`; scenes run on a bare built folder
-    write only their groups).
+    corrupt, or breaks the layout the writers keep (:func:`_check_layout`; a run's file also
+    carries :data:`ROOT_ATTRS`; scenes run on a bare built folder write only their groups).
     """
     path = Path(path)
     if path.is_dir():
@@ -109,7 +109,45 @@ def read_results(path: str | os.PathLike) -> dict:
         raise
     except (OSError, RuntimeError, KeyError, ValueError, TypeError) as err:
         raise ResultsFileError(path, f"unreadable HDF5 ({_h5_reason(err)})") from None
+    _check_layout(path, out)
     return out
+
+
+#: Root attributes and their types, where present.
+_ROOT_TYPES = {
+    "ncf2lammps_version": str,
+    "spec_toml": str,
+    "n_atoms": (int, np.integer),
+    "n_bonds": (int, np.integer),
+    "complete": (bool, np.bool_),
+}
+
+
+def _check_layout(path: Path, content: dict) -> None:
+    """The layout :func:`write_root` and :func:`write_scene` keep: typed root attributes, a
+    true/false ``complete`` in every group, 1-D float datasets of one length per group."""
+    for key, kind in _ROOT_TYPES.items():
+        if key in content["attrs"] and not isinstance(content["attrs"][key], kind):
+            raise ResultsFileError(path, f"root attribute {key!r} is not a {_kind_name(kind)}")
+    for name, group in content.items():
+        if name == "attrs":
+            continue
+        if not isinstance(group["attrs"].get("complete", False), bool | np.bool_):
+            raise ResultsFileError(path, f"/{name} attribute 'complete' is not true or false")
+        lengths = set()
+        for key, values in group.items():
+            if key == "attrs":
+                continue
+            if np.ndim(values) != 1 or np.asarray(values).dtype.kind != "f":
+                raise ResultsFileError(path, f"/{name}/{key} is not a 1-D float dataset")
+            lengths.add(len(values))
+        if len(lengths) > 1:
+            raise ResultsFileError(path, f"/{name} holds datasets of unequal length")
+
+
+def _kind_name(kind) -> str:
+    first = kind[0] if isinstance(kind, tuple) else kind
+    return {str: "text", int: "whole number", bool: "true or false"}[first]
 
 
 def update_root(path: str | os.PathLike, attrs: dict) -> None:

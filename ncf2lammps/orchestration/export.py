@@ -24,8 +24,10 @@ from .build import build, check_ranks
 
 __all__ = ["export"]
 
-_WALL_TIME = re.compile(r"^(?:(\d+)-)?(\d{1,3}):([0-5]\d):([0-5]\d)$")
-_MODULE = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_./+-]*$")
+_WALL_TIME = re.compile(r"^(?:([0-9]{1,3})-)?([0-9]{1,3}):([0-5][0-9]):([0-5][0-9])$")
+_MODULE = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_./+-]{0,99}$")
+#: Longest wall time a job asks for (s): a year.
+MAX_WALL_TIME_S = 365 * 86400
 
 
 def export(
@@ -46,9 +48,13 @@ def export(
         raise SpecError("--time", wall_time, "must read [D-]HH:MM:SS")
     for name in modules:
         if not _MODULE.fullmatch(name) or ".." in name:
-            raise SpecError("--module", name, "must be a module name (letters, digits, _./+-)")
-    if not any(int(part or 0) for part in match.groups()):
-        raise SpecError("--time", wall_time, "must be longer than 0:00:00")
+            raise SpecError(
+                "--module", name, "must be a module name (letters, digits, _./+-; 100 at most)"
+            )
+    days, hours, minutes, seconds = (int(part or 0) for part in match.groups())
+    total = ((days * 24 + hours) * 60 + minutes) * 60 + seconds
+    if not 0 < total <= MAX_WALL_TIME_S:
+        raise SpecError("--time", wall_time, "must be longer than 0:00:00 and at most 365-00:00:00")
     scenes = list(applicable_scenes(spec))
     values = {
         "version": __version__,

@@ -14,8 +14,10 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..engine import CheckpointError, Checkpoints
 from ..io.results import ROOT_ATTRS, ResultsFileError, read_results
 from ..scenes import SCENES
+from ..spec import SpecError, load_spec
 
 __all__ = ["RunFolder", "RunFolderError", "check_output", "check_run_folder"]
 
@@ -169,11 +171,29 @@ def _check_run_folder(directory: Path, need: str) -> RunFolder:
             " folder `ncf2lammps run -o` wrote",
         )
     if need == "resume":
-        for name in ("model.data", "spec.resolved.toml", "decks"):
-            if not (directory / name).exists():
+        for name, kind in (("model.data", "file"), ("spec.resolved.toml", "file"), ("decks", "")):
+            path = directory / name
+            if not (path.is_file() if kind == "file" else path.is_dir()):
                 raise RunFolderError(
                     directory, f"has no {name}, so it cannot be resumed: {_restart(directory)}"
                 )
+        try:
+            load_spec(directory / "spec.resolved.toml")
+        except SpecError as err:
+            raise RunFolderError(
+                directory, f"cannot be resumed: its spec.resolved.toml is damaged ({err.why})"
+            ) from None
+        for scene in SCENES:
+            try:
+                Checkpoints(scene).check(directory)
+            except CheckpointError as err:
+                raise RunFolderError(
+                    directory, f"cannot be resumed: {err}; {_restart(directory)}"
+                ) from None
+    elif (directory / "figures").exists() and not (directory / "figures").is_dir():
+        raise RunFolderError(directory, "holds a file named figures: report writes figures/ there")
+    elif (directory / "summary.md").is_dir():
+        raise RunFolderError(directory, "holds a folder named summary.md: report writes that file")
     try:
         results = read_results(results_path)
     except ResultsFileError as err:

@@ -16,7 +16,7 @@ from ..analysis.plots import plot_local_thickness
 from ..analysis.shear import SENSE_GROUPS
 from ..analysis.trajectory import local_thickness
 from ..io.lammpslog import read_loop_times
-from ..io.results import mark_complete, read_results, write_root, write_scene
+from ..io.results import ResultsFileError, mark_complete, read_results, write_root, write_scene
 from ..io.spectoml import dumps_spec
 from ..numerics import prepare
 from ..scenes import SCENES, applicable_scenes
@@ -226,6 +226,24 @@ def _owner(figure: Path, results: dict) -> str | None:
     return max(names, key=len, default=None)
 
 
+def _summary_head(directory: Path, results: dict, finished: list[str], bundle: bool) -> list[str]:
+    """summary.md's first lines: versions, size, ranks, date, completeness and indicators."""
+    root = results["attrs"]
+    return [
+        "# ncf2lammps run summary",
+        "",
+        f"ncf2lammps {_format(root['ncf2lammps_version'])},"
+        f" LAMMPS {_format(root.get('lammps_version', 'unknown'))},"
+        f" {_format(root['n_atoms'])} atoms, {_format(root['n_bonds'])} bonds,"
+        f" {_format(root.get('mpi_ranks', 'unknown'))} MPI rank(s),"
+        f" created {_format(root.get('created', 'unknown'))}; complete: {bool(root['complete'])}.",
+        "",
+        *_incomplete_lines(directory, results, finished, bundle),
+        *_indicator_lines(results),
+        *_shear_sense_lines(results),
+    ]
+
+
 def write_report(directory: str | os.PathLike) -> list[Path]:
     """Write figures/*.png and summary.md for the run in ``directory``; returns the files.
 
@@ -241,24 +259,20 @@ def write_report(directory: str | os.PathLike) -> list[Path]:
     results = read_results(directory / "results.h5")
     finished = [s for s in SCENES if s in results and results[s]["attrs"].get("complete")]
     (directory / "figures").mkdir(exist_ok=True)
-    written = _trajectories(directory, finished)
-    results = read_results(directory / "results.h5")
-    for scene in SCENES:
-        if scene in results:
-            written += SCENES[scene].figures(results, directory)
-    root = results["attrs"]
-    lines = [
-        "# ncf2lammps run summary",
-        "",
-        f"ncf2lammps {_format(root['ncf2lammps_version'])}, LAMMPS {_format(root['lammps_version'])},"
-        f" {_format(root['n_atoms'])} atoms, {_format(root['n_bonds'])} bonds,"
-        f" {_format(root['mpi_ranks'])} MPI rank(s), created {_format(root['created'])};"
-        f" complete: {bool(root['complete'])}.",
-        "",
-        *_incomplete_lines(directory, results, finished, folder.bundle),
-        *_indicator_lines(results),
-        *_shear_sense_lines(results),
-    ]
+    try:
+        written = _trajectories(directory, finished)
+        results = read_results(directory / "results.h5")
+        for scene in SCENES:
+            if scene in results:
+                written += SCENES[scene].figures(results, directory)
+        lines = _summary_head(directory, results, finished, folder.bundle)
+    except (KeyError, IndexError, TypeError, ValueError) as err:
+        # A results file or state file that lacks or garbles what the scenes write.
+        why = " ".join(f"{type(err).__name__}: {err}".split())[:200]
+        raise ResultsFileError(
+            directory / "results.h5",
+            f"does not hold what its scenes write ({why}): run them again with --force",
+        ) from None
     for scene, group in results.items():
         if scene == "attrs":
             continue
