@@ -16,6 +16,7 @@ import time
 from pathlib import Path
 
 from ncf2lammps import build_model, load_spec
+from ncf2lammps.cli import at_least_one, script_main
 from ncf2lammps.io.datafile import write_data
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -35,7 +36,7 @@ def time_build(spec, repeat: int) -> dict:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--repeat", type=at_least_one, default=3)
     args = parser.parse_args()
     paper = load_spec(ROOT / "runs" / "hpt310" / "spec.toml")
     # Two stitch repeats in each direction at d = 46 um: about one million beads.
@@ -54,4 +55,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    script_main(main)

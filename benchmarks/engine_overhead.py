@@ -16,11 +16,13 @@ from pathlib import Path
 
 from _throughput import paper_mat_folder, run_lmp, run_python
 
+from ncf2lammps.cli import at_least_one, script_main
+
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--chunk", type=int, default=5000, help="steps per driver chunk")
+    parser.add_argument("--repeat", type=at_least_one, default=3)
+    parser.add_argument("--chunk", type=at_least_one, default=5000, help="steps per driver chunk")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         folder, atoms = paper_mat_folder(Path(tmp) / "bench")
@@ -53,4 +55,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    script_main(main)

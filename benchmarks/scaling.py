@@ -16,11 +16,13 @@ from pathlib import Path
 
 from _throughput import paper_mat_folder, run_lmp
 
+from ncf2lammps.cli import at_least_one, script_main
+
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
+    parser.add_argument("--repeat", type=at_least_one, default=3)
+    parser.add_argument("--ranks", type=at_least_one, nargs="+", default=[1, 2])
     args = parser.parse_args()
     rates: dict[int, list[float]] = {n: [] for n in args.ranks}
     with tempfile.TemporaryDirectory() as tmp:
@@ -50,4 +52,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    script_main(main)

@@ -24,6 +24,7 @@ import time
 from pathlib import Path
 
 from ncf2lammps import copy_manufactured, load_spec, run, run_scenes
+from ncf2lammps.cli import at_least_one, script_main
 from ncf2lammps.io.results import read_results
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -95,10 +96,10 @@ def main() -> None:
     parser.add_argument("-o", "--output", help="keep the run here (default: a temporary folder)")
     parser.add_argument("--np", type=int, default=2, help="MPI ranks (default 2, this machine)")
     parser.add_argument("--half", action="store_true", help="run the tests at half the loading")
-    parser.add_argument("--repeat", type=int, default=1, help="runs from scratch (median total)")
+    parser.add_argument(
+        "--repeat", type=at_least_one, default=1, help="runs from scratch (median total)"
+    )
     args = parser.parse_args()
-    if args.repeat < 1:
-        parser.error("--repeat: a whole number >= 1")
     spec = load_spec(ROOT / "runs" / args.case / "spec.toml")
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(args.output or Path(tmp) / args.case)
@@ -147,4 +148,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    script_main(main)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from collections.abc import Callable
 
 from . import __version__, units
 from .engine import EngineError
@@ -302,12 +303,42 @@ def parser() -> argparse.ArgumentParser:
     return top
 
 
+def at_least_one(text: str) -> int:
+    """An argparse type: a whole number >= 1 (repeats, chunks, ranks of a script)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value}: must be at least 1")
+    return value
+
+
+#: Errors of bad input: one line on stderr, exit 2.
+INPUT_ERRORS = (SpecError, OutputExistsError, RunFolderError, ResultsFileError)
+
+
+def script_main(main_function: Callable[[], None]) -> None:
+    """Run a script's ``main_function`` with the command line's exit codes: bad input
+    (:data:`INPUT_ERRORS`) is one line ``<script>: error: ...`` and exit 2, a failed run one line
+    and exit 1 (for the example scripts of runs/ and benchmarks/)."""
+    prog = os.path.basename(sys.argv[0])
+    try:
+        main_function()
+    except INPUT_ERRORS as err:
+        print(f"{prog}: error: {err}", file=sys.stderr)
+        sys.exit(2)
+    except EngineError as err:
+        print(f"{prog}: run failed: {err}", file=sys.stderr)
+        sys.exit(1)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``ncf2lammps`` console script."""
     args = parser().parse_args(argv)
     try:
         return args.func(args)
-    except (SpecError, OutputExistsError, RunFolderError, ResultsFileError) as err:
+    except INPUT_ERRORS as err:
         print(f"ncf2lammps: error: {err}", file=sys.stderr)
         return 2
     except EngineError as err:

@@ -13,6 +13,7 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from ncf2lammps.analysis.plots import plot_compaction, plot_shear
+from ncf2lammps.cli import script_main
 from ncf2lammps.io.results import read_results
 
 
@@ -35,35 +36,42 @@ def study_points(study: Path) -> list[tuple[str, Path]]:
     ]  # fmt: skip
 
 
-parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-parser.add_argument("output", type=Path, help="PNG to write")
-parser.add_argument("runs", nargs="*", type=labelled, help="LABEL=RUN_DIR")
-parser.add_argument("--study", type=Path, help="a study folder: plot all its points")
-parser.add_argument(
-    "--no-paper-marks", action="store_true", help="another fabric than the paper's 0/90 NCF"
-)
-args = parser.parse_args()
-runs = args.runs + (study_points(args.study) if args.study else [])
-if not runs:
-    parser.error("runs: give LABEL=RUN_DIR or --study STUDY_DIR")
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("output", type=Path, help="PNG to write")
+    parser.add_argument("runs", nargs="*", type=labelled, help="LABEL=RUN_DIR")
+    parser.add_argument("--study", type=Path, help="a study folder: plot all its points")
+    parser.add_argument(
+        "--no-paper-marks", action="store_true", help="another fabric than the paper's 0/90 NCF"
+    )
+    args = parser.parse_args()
+    if args.study and not (args.study / "study.csv").is_file():
+        parser.error(f"--study {args.study}: no study.csv there; give a study folder")
+    runs = args.runs + (study_points(args.study) if args.study else [])
+    if not runs:
+        parser.error("runs: give LABEL=RUN_DIR or --study STUDY_DIR")
 
-for label, folder in args.runs:
-    if not (folder / "results.h5").is_file():
-        parser.error(f"{label}={folder}: no results.h5 there; give a run folder")
-# A study's point that failed has no results.h5: it is left out.
-curves = [
-    (label, read_results(f / "results.h5")) for label, f in runs if (f / "results.h5").is_file()
-]
-marks = not args.no_paper_marks
-compacted = any("compaction" in data for _, data in curves)
-sheared = any("shear" in data for _, data in curves)
-fig = Figure(figsize=(11.0 if compacted and sheared else 7.0, 4.8))
-axes = list(fig.subplots(1, compacted + sheared, squeeze=False)[0])
-for label, data in curves:
-    if "compaction" in data:
-        plot_compaction(data, axes[0], label=label, paper_marks=marks)
-    if "shear" in data:
-        plot_shear(data, axes[-1], label=label, paper_marks=marks)
-fig.tight_layout()
-fig.savefig(args.output, dpi=110)
-print(f"wrote {args.output}")
+    for label, folder in args.runs:
+        if not (folder / "results.h5").is_file():
+            parser.error(f"{label}={folder}: no results.h5 there; give a run folder")
+    # A study's point that failed has no results.h5: it is left out.
+    curves = [
+        (label, read_results(f / "results.h5")) for label, f in runs if (f / "results.h5").is_file()
+    ]
+    marks = not args.no_paper_marks
+    compacted = any("compaction" in data for _, data in curves)
+    sheared = any("shear" in data for _, data in curves)
+    fig = Figure(figsize=(11.0 if compacted and sheared else 7.0, 4.8))
+    axes = list(fig.subplots(1, compacted + sheared, squeeze=False)[0])
+    for label, data in curves:
+        if "compaction" in data:
+            plot_compaction(data, axes[0], label=label, paper_marks=marks)
+        if "shear" in data:
+            plot_shear(data, axes[-1], label=label, paper_marks=marks)
+    fig.tight_layout()
+    fig.savefig(args.output, dpi=110)
+    print(f"wrote {args.output}")
+
+
+if __name__ == "__main__":
+    script_main(main)

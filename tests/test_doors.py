@@ -749,3 +749,44 @@ def test_doors_through_a_process(place):
         ok = process.returncode == 2 and err.count("\n") == 1 and "Traceback" not in err
         TALLY["refused" if ok else "crashed"] += 1
         assert ok, f"{argv}: exit {process.returncode}, stderr {err!r}"
+
+
+def test_example_scripts_refuse_bad_arguments(place, tmp_path):
+    """The scripts of runs/ and benchmarks/ (through ``ncf2lammps.cli.script_main``): a wrong
+    argument, a missing spec, a folder that is no run: exit 2, no traceback, the last line
+    names what is wrong, nothing made. None of these starts LAMMPS."""
+    _, files, folders = place
+    runs, benchmarks = ROOT / "runs", ROOT / "benchmarks"
+    out = tmp_path / "out"
+    cases = [
+        ([runs / "compaction_rate_check.py"], "required"),
+        ([runs / "compaction_rate_check.py", tmp_path / "no.toml", out], "no.toml"),
+        ([runs / "sweep_diameter.py", "--bogus"], "--bogus"),
+        ([runs / "compare_runs.py", out / "o.png", "--study", tmp_path], "study.csv"),
+        ([runs / "compare_runs.py", out / "o.png", f"A={folders['h5_random']}"], "results.h5"),
+        (
+            [runs / "test_from_manufactured.py", files["spec"], folders["stranger"], out, "shear"],
+            "not a run folder",
+        ),
+        ([runs / "shear_senses.py", files["spec"], folders["stranger"], out], "not a run folder"),
+        ([benchmarks / "engine_overhead.py", "--chunk", "0"], "--chunk"),
+        ([benchmarks / "scaling.py", "--ranks", "0"], "--ranks"),
+        ([benchmarks / "build_speed.py", "--repeat", "x"], "--repeat"),
+        ([benchmarks / "time_to_solution.py", "--repeat", "0"], "--repeat"),
+    ]
+    processes = [
+        subprocess.Popen(
+            [sys.executable, *map(str, argv)],
+            cwd=tmp_path,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for argv, _ in cases
+    ]
+    for (argv, named), process in zip(cases, processes, strict=True):
+        _, err = process.communicate(timeout=120)
+        last = err.strip().splitlines()[-1] if err.strip() else ""
+        assert process.returncode == 2 and "Traceback" not in err, (argv, err)
+        assert named in last, (argv, last)
+    assert not out.exists()

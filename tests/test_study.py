@@ -11,10 +11,13 @@ import numpy as np
 import pytest
 from conftest import kill_after_checkpoint, tiny_spec
 
-from ncf2lammps import copy_manufactured, load_spec
+from ncf2lammps import copy_manufactured, load_spec, run_scenes
 from ncf2lammps.analysis.study import pareto_front, relative_errors
 from ncf2lammps.io.results import read_results, write_root, write_scene
 from ncf2lammps.io.spectoml import dumps_spec, write_spec
+from ncf2lammps.orchestration.build import OutputExistsError
+from ncf2lammps.orchestration.folder import RunFolderError
+from ncf2lammps.orchestration.run import scenes_to_run
 from ncf2lammps.orchestration.study import (
     KNOBS,
     _write_tables,
@@ -23,6 +26,7 @@ from ncf2lammps.orchestration.study import (
     study,
     study_grid,
 )
+from ncf2lammps.spec import SpecError
 
 
 def test_pareto_front_keeps_points_no_faster_point_beats():
@@ -205,6 +209,33 @@ def test_a_copied_manufactured_folder_carries_the_new_spec_and_not_the_scenes_ch
     results = read_results(tmp_path / "copy" / "results.h5")
     assert results["attrs"]["spec_toml"] == dumps_spec(new) != dumps_spec(old)
     assert results["manufacture"]["attrs"]["steps"] == 10
+
+
+def test_copy_and_run_scenes_refuse_what_they_cannot_use(tmp_path):
+    """copy_manufactured needs a run folder with a finished manufacture and a new target;
+    run_scenes a list of the spec's scenes and a built folder: each a one-line error."""
+    spec = tiny_spec()
+    stranger = tmp_path / "stranger"
+    stranger.mkdir()
+    (stranger / "notes.txt").write_text("not a run")
+    with pytest.raises(RunFolderError, match="not a run folder"):
+        copy_manufactured(spec, stranger, tmp_path / "copy", ["shear"])
+    unmanufactured = tmp_path / "unmanufactured"
+    unmanufactured.mkdir()
+    write_root(unmanufactured / "results.h5", {"spec_toml": dumps_spec(spec)})
+    with pytest.raises(RunFolderError, match="no finished manufacture"):
+        copy_manufactured(spec, unmanufactured, tmp_path / "copy", ["shear"])
+    write_scene(unmanufactured / "results.h5", "manufacture", {"steps": 10})
+    with pytest.raises(OutputExistsError, match="choose a new folder"):
+        copy_manufactured(spec, unmanufactured, stranger, ["shear"])
+    assert not (tmp_path / "copy").exists()
+    for scenes in ("shear", ["no-such-scene"]):
+        with pytest.raises(SpecError, match="--scene"):
+            run_scenes(spec, stranger, scenes)
+    with pytest.raises(SpecError, match="--scene"):
+        scenes_to_run(spec, [])  # `run` of no scene would write a complete, empty run
+    with pytest.raises(RunFolderError, match=r"no model\.data"):
+        run_scenes(spec, stranger, ["shear"])
 
 
 def test_bad_knob_or_value_is_one_line_exit_2(tmp_path):

@@ -35,12 +35,19 @@ from pathlib import Path
 
 from .. import __version__
 from ..engine import Checkpoints, EngineError, UnstableRunError, lammps_version
-from ..io.results import mark_complete, update_root, write_root, write_scene
+from ..io.results import (
+    ResultsFileError,
+    mark_complete,
+    read_results,
+    update_root,
+    write_root,
+    write_scene,
+)
 from ..io.spectoml import dumps_spec, write_spec
 from ..numerics import Prepared, prepare
 from ..scenes import SCENES, Deck, applicable_scenes, render_deck
 from ..spec import FabricSpec, SpecError
-from .build import build, check_ranks
+from .build import OutputExistsError, build, check_ranks
 from .folder import RunFolder, RunFolderError, check_run_folder
 from .report import write_report
 
@@ -52,14 +59,25 @@ _log = logging.getLogger(__name__)
 def scenes_to_run(spec: FabricSpec, scenes: Sequence[str] | None) -> list[str]:
     """The scenes asked for (default: all the spec supports) plus their prerequisites, in order."""
     available = applicable_scenes(spec)
-    if scenes is not None and (missing := set(scenes) - set(available)):
-        raise SpecError(
-            "--scene", sorted(missing)[0], f"not available for this spec ({', '.join(available)})"
-        )
+    _check_scene_list(scenes, available)
+    if scenes is not None and not scenes:
+        raise SpecError("--scene", [], f"give one or more of {', '.join(available)}")
     asked = set(available if scenes is None else scenes)
     for scene in list(asked):
         asked |= set(SCENES[scene].requires(spec))
     return [s for s in available if s in asked]
+
+
+def _check_scene_list(scenes: Sequence[str] | None, available: Sequence[str]) -> None:
+    """SpecError unless ``scenes`` is None or a list of scene names of ``available``."""
+    if scenes is None:
+        return
+    if isinstance(scenes, str):
+        raise SpecError("--scene", scenes, f"give a list of scenes of {', '.join(available)}")
+    if missing := sorted(set(scenes) - set(available)):
+        raise SpecError(
+            "--scene", missing[0], f"not available for this spec ({', '.join(available)})"
+        )
 
 
 def checkpoints(directory: Path, deck: Deck, every: int, resume: bool) -> Checkpoints:
@@ -99,7 +117,10 @@ def run_scenes(
     """
     check_ranks(ranks)
     run = spec if isinstance(spec, Prepared) else prepare(spec)
+    _check_scene_list(scenes, applicable_scenes(run.spec))
     directory = Path(directory).resolve()
+    if not (directory / "model.data").is_file():
+        raise RunFolderError(directory, "is not a built run folder (no model.data)")
     if (folder_atoms := _count_atoms(directory)) != run.model.n_atoms:
         raise SpecError(
             "<spec>", "...", f"describes {run.model.n_atoms} beads, the folder {folder_atoms}"
@@ -133,6 +154,18 @@ def copy_manufactured(
     scenes, and with ``spec`` as the folder's spec (``spec.resolved.toml``, results.h5's root),
     so that its summary describes what runs there."""
     directory = Path(directory)
+    try:
+        manufactured = read_results(Path(source) / "results.h5").get("manufacture", {})
+    except ResultsFileError as err:
+        raise RunFolderError(source, f"is not a run folder (results.h5: {err.reason})") from None
+    if spec.stitch is not None and not manufactured.get("attrs", {}).get("complete"):
+        raise RunFolderError(
+            source,
+            "holds no finished manufacture: make it with"
+            f" `ncf2lammps run SPEC -o {source} --scene manufacture`",
+        )
+    if directory.exists():
+        raise OutputExistsError(f"{directory}: exists; choose a new folder for the copy")
     checkpoint_files = shutil.ignore_patterns(*(Checkpoints(scene).files for scene in scenes))
     shutil.copytree(source, directory, ignore=checkpoint_files)
     write_spec(directory / "spec.resolved.toml", spec)
