@@ -119,21 +119,28 @@ def stitch_path(folder: Path) -> list[dict]:
     return rows
 
 
+def refuse(folder: Path, what: str) -> None:
+    """One line naming the folder and what it lacks; exit 2."""
+    print(
+        f"stitch_in_shear.py: error: {folder}: no {what}; give folders of stitched fabrics'"
+        " finished shear runs",
+        file=sys.stderr,
+    )
+    sys.exit(2)
+
+
 for folder in args.runs:
     missing = [
         n for n in ("results.h5", "model.data", "shear.lammpstrj") if not (folder / n).is_file()
     ]
     if missing:
-        print(
-            f"stitch_in_shear.py: error: {folder}: no {', '.join(missing)}; give folders of"
-            " finished shear runs",
-            file=sys.stderr,
-        )
-        sys.exit(2)
+        refuse(folder, ", ".join(missing))
 
 report = {}
 for folder in args.runs:
     results = read_results(folder / "results.h5")
+    if "stitch_angle_deg" not in results.get("shear", {}) or "manufacture" not in results:
+        refuse(folder, "stitch records of a manufacture and a shear")
     shear = results["shear"]
     angle, tension = shear["stitch_angle_deg"], shear["stitch_tension_mean_N"]
     nearest = [int(np.argmin(np.abs(angle - a))) for a in args.angles]
