@@ -171,25 +171,7 @@ def _check_run_folder(directory: Path, need: str) -> RunFolder:
             " folder `ncf2lammps run -o` wrote",
         )
     if need == "resume":
-        for name, kind in (("model.data", "file"), ("spec.resolved.toml", "file"), ("decks", "")):
-            path = directory / name
-            if not (path.is_file() if kind == "file" else path.is_dir()):
-                raise RunFolderError(
-                    directory, f"has no {name}, so it cannot be resumed: {_restart(directory)}"
-                )
-        try:
-            load_spec(directory / "spec.resolved.toml")
-        except SpecError as err:
-            raise RunFolderError(
-                directory, f"cannot be resumed: its spec.resolved.toml is damaged ({err.why})"
-            ) from None
-        for scene in SCENES:
-            try:
-                Checkpoints(scene).check(directory)
-            except CheckpointError as err:
-                raise RunFolderError(
-                    directory, f"cannot be resumed: {err}; {_restart(directory)}"
-                ) from None
+        _check_resumable(directory)
     elif (directory / "figures").exists() and not (directory / "figures").is_dir():
         raise RunFolderError(directory, "holds a file named figures: report writes figures/ there")
     elif (directory / "summary.md").is_dir():
@@ -226,6 +208,42 @@ def _check_run_folder(directory: Path, need: str) -> RunFolder:
                 directory, "is not writable (report writes figures/ and summary.md into it)"
             )
     return RunFolder(directory, results, complete, scenes)
+
+
+def _check_name_lengths(final: Path, ancestor: Path, make: bool) -> None:
+    """Every name in ``final`` (and its temporary build name unless ``make``) fits the file
+    system of ``ancestor``, its deepest existing folder."""
+    name_max = os.pathconf(ancestor, "PC_NAME_MAX")
+    longest = max(len(os.fsencode(part)) for part in final.parts)
+    temporary = len(os.fsencode(final.name if make else temporary_folder(final).name))
+    if max(longest, temporary) > name_max:
+        raise RunFolderError(
+            final, f"cannot be made: a name in it is longer than the {name_max} bytes allowed"
+        )
+
+
+def _check_resumable(directory: Path) -> None:
+    """The built files a resume reads (model.data, a readable spec.resolved.toml, decks/) and
+    every scene's last checkpoint with the journal run it names."""
+    for name, kind in (("model.data", "file"), ("spec.resolved.toml", "file"), ("decks", "")):
+        path = directory / name
+        if not (path.is_file() if kind == "file" else path.is_dir()):
+            raise RunFolderError(
+                directory, f"has no {name}, so it cannot be resumed: {_restart(directory)}"
+            )
+    try:
+        load_spec(directory / "spec.resolved.toml")
+    except SpecError as err:
+        raise RunFolderError(
+            directory, f"cannot be resumed: its spec.resolved.toml is damaged ({err.why})"
+        ) from None
+    for scene in SCENES:
+        try:
+            Checkpoints(scene).check(directory)
+        except CheckpointError as err:
+            raise RunFolderError(
+                directory, f"cannot be resumed: {err}; {_restart(directory)}"
+            ) from None
 
 
 def check_output(
@@ -296,13 +314,7 @@ def check_output(
         raise RunFolderError(
             final, f"cannot be made: {ancestor} is not writable (choose another -o)"
         )
-    name_max = os.pathconf(ancestor, "PC_NAME_MAX")
-    longest = max(len(os.fsencode(part)) for part in final.parts)
-    temporary = len(os.fsencode(final.name if make else temporary_folder(final).name))
-    if max(longest, temporary) > name_max:
-        raise RunFolderError(
-            final, f"cannot be made: a name in it is longer than the {name_max} bytes allowed"
-        )
+    _check_name_lengths(final, ancestor, make)
     if make:
         try:
             final.mkdir(parents=True, exist_ok=True)
