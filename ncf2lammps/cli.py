@@ -166,7 +166,7 @@ def _report(args) -> int:
 
 def _study(args) -> int:
     from .orchestration.run import scenes_to_run
-    from .orchestration.study import parse_vary, study, study_grid
+    from .orchestration.study import parse_vary, study
 
     spec = load_spec(args.spec)
     if not 0.0 < args.tolerance < 1.0:
@@ -175,9 +175,8 @@ def _study(args) -> int:
     vary = [parse_vary(text) for text in args.vary or []]
     if not vary:
         raise SpecError("--vary", None, "give at least one KNOB=V1,V2,...")
-    study_grid(spec, vary, args.zip)  # every point valid before the folder is made
     scenes_to_run(spec, args.scene)
-    check_output(args.output, study=True, make=True)
+    check_output(args.output, study=True)  # study() checks every point, then makes the folder
     for path in study(spec, args.output, vary, args.scene, args.zip, args.tolerance, args.np):
         print(f"wrote {path}")
     return 0
@@ -204,7 +203,9 @@ def _spec_and_output(command, output_help: str = "output folder (new or empty)")
 
 
 def _force(command) -> None:
-    command.add_argument("--force", action="store_true", help="replace a non-empty folder")
+    command.add_argument(
+        "--force", action="store_true", help="replace a folder of ncf2lammps output"
+    )
 
 
 def _ranks(command, default: int, help_text: str) -> None:
@@ -318,31 +319,17 @@ def at_least_one(text: str) -> int:
 INPUT_ERRORS = (SpecError, OutputExistsError, RunFolderError, ResultsFileError)
 
 
-def script_main(main_function: Callable[[], None]) -> None:
-    """Run a script's ``main_function`` with the command line's exit codes: bad input
-    (:data:`INPUT_ERRORS`) is one line ``<script>: error: ...`` and exit 2, a failed run one line
-    and exit 1 (for the example scripts of runs/ and benchmarks/)."""
-    prog = os.path.basename(sys.argv[0])
+def _exit_code(prog: str, call: Callable[[], int | None]) -> int:
+    """``call()``'s exit code (None: 0), or that of what it raised, printed on one line as
+    ``<prog>: error: ...``: bad input (:data:`INPUT_ERRORS`) 2, a failed run or a system
+    error 1."""
     try:
-        main_function()
+        return call() or 0
     except INPUT_ERRORS as err:
         print(f"{prog}: error: {err}", file=sys.stderr)
-        sys.exit(2)
-    except EngineError as err:
-        print(f"{prog}: run failed: {err}", file=sys.stderr)
-        sys.exit(1)
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``ncf2lammps`` console script."""
-    args = parser().parse_args(argv)
-    try:
-        return args.func(args)
-    except INPUT_ERRORS as err:
-        print(f"ncf2lammps: error: {err}", file=sys.stderr)
         return 2
     except EngineError as err:
-        print(f"ncf2lammps: run failed: {err}", file=sys.stderr)
+        print(f"{prog}: run failed: {err}", file=sys.stderr)
         return 1
     except BrokenPipeError:
         # The reader of our output stopped (`ncf2lammps check SPEC | head`): no traceback, and
@@ -351,8 +338,20 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     except OSError as err:  # the system refused (disk full, permissions): one line, not input
         where = f"{err.filename}: " if err.filename else ""
-        print(" ".join(f"ncf2lammps: error: {where}{err.strerror or err}".split()), file=sys.stderr)
+        print(" ".join(f"{prog}: error: {where}{err.strerror or err}".split()), file=sys.stderr)
         return 1
+
+
+def script_main(main_function: Callable[[], None]) -> None:
+    """Run a script's ``main_function`` and exit with the command line's codes and one-line
+    messages (for the example scripts of runs/ and benchmarks/)."""
+    sys.exit(_exit_code(os.path.basename(sys.argv[0]), main_function))
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``ncf2lammps`` console script."""
+    args = parser().parse_args(argv)
+    return _exit_code("ncf2lammps", lambda: args.func(args))
 
 
 if __name__ == "__main__":

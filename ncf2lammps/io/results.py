@@ -115,8 +115,8 @@ def read_results(path: str | os.PathLike) -> dict:
 
 #: Root attributes and their types, where present.
 _ROOT_TYPES = {
-    "ncf2lammps_version": str,
-    "spec_toml": str,
+    "ncf2lammps_version": (str, bytes),
+    "spec_toml": (str, bytes),
     "n_atoms": (int, np.integer),
     "n_bonds": (int, np.integer),
     "complete": (bool, np.bool_),

@@ -60,7 +60,7 @@ def export(
         "version": __version__,
         "scenes": scenes,
         "ranks": ranks,
-        "wall_time": [int(part or 0) for part in match.groups()],
+        "wall_time": [days, hours, minutes, seconds],
         "modules": list(modules),
         "dump_every": spec.output.dump_every_steps,
     }

@@ -21,6 +21,9 @@ from ..spec import SpecError, load_spec
 
 __all__ = ["RunFolder", "RunFolderError", "check_output", "check_run_folder"]
 
+#: Files of which one marks a folder as ncf2lammps output (``--force`` replaces only such).
+OUTPUT_MARKERS = ("spec.resolved.toml", "model.data", "results.h5", "in.run_all.lmp")
+
 #: A temporary folder of an interrupted build (:func:`~ncf2lammps.orchestration.build.build`).
 _PARTIAL = re.compile(r"\.partial-(\d+)$")
 
@@ -154,6 +157,14 @@ def check_run_folder(path: str | os.PathLike, need: str = "report") -> RunFolder
 
 def _check_run_folder(directory: Path, need: str) -> RunFolder:
     _check_folder(directory, need)
+    if (
+        need == "report"
+        and (directory / "figures").exists()
+        and not (directory / "figures").is_dir()
+    ):
+        raise RunFolderError(directory, "holds a file named figures: report writes figures/ there")
+    if need == "report" and (directory / "summary.md").is_dir():
+        raise RunFolderError(directory, "holds a folder named summary.md: report writes that file")
     if (directory / "in.run_all.lmp").is_file():
         return _bundle(directory, need)  # its results.h5 is collected again from scene files
     results_path = directory / "results.h5"
@@ -172,10 +183,6 @@ def _check_run_folder(directory: Path, need: str) -> RunFolder:
         )
     if need == "resume":
         _check_resumable(directory)
-    elif (directory / "figures").exists() and not (directory / "figures").is_dir():
-        raise RunFolderError(directory, "holds a file named figures: report writes figures/ there")
-    elif (directory / "summary.md").is_dir():
-        raise RunFolderError(directory, "holds a folder named summary.md: report writes that file")
     try:
         results = read_results(results_path)
     except ResultsFileError as err:
@@ -210,12 +217,12 @@ def _check_run_folder(directory: Path, need: str) -> RunFolder:
     return RunFolder(directory, results, complete, scenes)
 
 
-def _check_name_lengths(final: Path, ancestor: Path, make: bool) -> None:
-    """Every name in ``final`` (and its temporary build name unless ``make``) fits the file
-    system of ``ancestor``, its deepest existing folder."""
+def _check_name_lengths(final: Path, ancestor: Path, renamed: bool) -> None:
+    """Every name in ``final`` (and its temporary build name if it is ``renamed`` into place)
+    fits the file system of ``ancestor``, its deepest existing folder."""
     name_max = os.pathconf(ancestor, "PC_NAME_MAX")
     longest = max(len(os.fsencode(part)) for part in final.parts)
-    temporary = len(os.fsencode(final.name if make else temporary_folder(final).name))
+    temporary = len(os.fsencode(temporary_folder(final).name if renamed else final.name))
     if max(longest, temporary) > name_max:
         raise RunFolderError(
             final, f"cannot be made: a name in it is longer than the {name_max} bytes allowed"
@@ -260,7 +267,7 @@ def check_output(
     unless ``study`` (a study folder is continued; :func:`~ncf2lammps.orchestration.study.study`
     checks it holds a study); for a folder built elsewhere, the current folder or one holding
     it, and with ``force`` a non-empty folder that holds no ncf2lammps output
-    (``spec.resolved.toml``): ``force`` replaces runs, not arbitrary folders.
+    (:data:`OUTPUT_MARKERS`): ``force`` replaces runs, not arbitrary folders.
     """
     final = Path(os.path.normpath(path))
     try:
@@ -277,21 +284,23 @@ def check_output(
                 final, f"is relative to a current folder that is gone ({err.strerror})"
             ) from None
         here = None
-    if not make and here is not None and final.resolve() in (here, *here.parents):
+    renamed = not make and not study  # built under a temporary name and renamed into place
+    if renamed and here is not None and final.resolve() in (here, *here.parents):
         raise RunFolderError(
             final,
             "is the current folder or holds it: the output is built under a temporary name and"
             " moved into place, so give a new folder (e.g. -o out)",
         )
     nonempty = exists and any(final.iterdir())
-    if nonempty and force and not make and not (final / "spec.resolved.toml").is_file():
+    ours = any((final / name).is_file() for name in OUTPUT_MARKERS)
+    if nonempty and force and renamed and not ours:
         raise RunFolderError(
             final,
-            "is not empty and holds no ncf2lammps output (no spec.resolved.toml): --force only"
-            " replaces a run, build or export folder; choose another -o",
+            "is not empty and holds no ncf2lammps output (none of "
+            f"{', '.join(OUTPUT_MARKERS)}): --force only replaces such a folder; choose another -o",
         )
     if nonempty and not force and not study:
-        why = "exists and is not empty (choose another -o or --force)"
+        why = "exists and is not empty (choose another -o" + (" or --force)" if ours else ")")
         if (final / "results.h5").is_file():
             try:
                 unfinished = not bool(read_results(final / "results.h5")["attrs"].get("complete"))
@@ -314,7 +323,7 @@ def check_output(
         raise RunFolderError(
             final, f"cannot be made: {ancestor} is not writable (choose another -o)"
         )
-    _check_name_lengths(final, ancestor, make)
+    _check_name_lengths(final, ancestor, renamed)
     if make:
         try:
             final.mkdir(parents=True, exist_ok=True)

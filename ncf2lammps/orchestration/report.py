@@ -21,7 +21,7 @@ from ..io.spectoml import dumps_spec
 from ..numerics import prepare
 from ..scenes import SCENES, applicable_scenes
 from ..spec import SpecError, load_spec, spec_from_dict
-from .folder import check_run_folder
+from .folder import RunFolderError, check_run_folder
 
 __all__ = ["collect_outputs", "write_report"]
 
@@ -266,12 +266,15 @@ def write_report(directory: str | os.PathLike) -> list[Path]:
             if scene in results:
                 written += SCENES[scene].figures(results, directory)
         lines = _summary_head(directory, results, finished, folder.bundle)
+    except (SpecError, ResultsFileError, RunFolderError):
+        raise
     except (KeyError, IndexError, TypeError, ValueError) as err:
-        # A results file or state file that lacks or garbles what the scenes write.
+        # A results file or snapshot that lacks or garbles what the scenes wrote.
         why = " ".join(f"{type(err).__name__}: {err}".split())[:200]
         raise ResultsFileError(
             directory / "results.h5",
-            f"does not hold what its scenes write ({why}): run them again with --force",
+            f"or a snapshot beside it does not hold what the report reads ({why}); the run's"
+            " files are left as they are",
         ) from None
     for scene, group in results.items():
         if scene == "attrs":

@@ -154,16 +154,21 @@ def copy_manufactured(
     scenes, and with ``spec`` as the folder's spec (``spec.resolved.toml``, results.h5's root),
     so that its summary describes what runs there."""
     directory = Path(directory)
-    try:
-        manufactured = read_results(Path(source) / "results.h5").get("manufacture", {})
-    except ResultsFileError as err:
-        raise RunFolderError(source, f"is not a run folder (results.h5: {err.reason})") from None
-    if spec.stitch is not None and not manufactured.get("attrs", {}).get("complete"):
-        raise RunFolderError(
-            source,
-            "holds no finished manufacture: make it with"
-            f" `ncf2lammps run SPEC -o {source} --scene manufacture`",
-        )
+    if spec.stitch is None and not (Path(source) / "model.data").is_file():
+        raise RunFolderError(source, "is not a built run folder (no model.data)")
+    if spec.stitch is not None:
+        try:
+            manufactured = read_results(Path(source) / "results.h5").get("manufacture", {})
+        except ResultsFileError as err:
+            raise RunFolderError(
+                source, f"is not a run folder (results.h5: {err.reason})"
+            ) from None
+        if not manufactured.get("attrs", {}).get("complete"):
+            raise RunFolderError(
+                source,
+                "holds no finished manufacture: make it with"
+                f" `ncf2lammps run SPEC -o {source} --scene manufacture`",
+            )
     if directory.exists():
         raise OutputExistsError(f"{directory}: exists; choose a new folder for the copy")
     checkpoint_files = shutil.ignore_patterns(*(Checkpoints(scene).files for scene in scenes))

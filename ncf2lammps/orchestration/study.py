@@ -48,7 +48,7 @@ from ..numerics import prepare
 from ..scenes import kinetic_checks, quasi_static
 from ..spec import FabricSpec, SpecError
 from .build import OutputExistsError, render_decks
-from .folder import abandoned_temporary_folders, temporary_folder
+from .folder import RunFolderError, abandoned_temporary_folders, temporary_folder
 from .report import write_report
 from .run import copy_manufactured, run, run_scenes, scenes_to_run
 
@@ -427,7 +427,12 @@ def study(
     directory = Path(directory)
     if directory.exists() and any(directory.iterdir()) and not (directory / "points").is_dir():
         raise OutputExistsError(f"{directory}: exists and is not a study folder")
-    (directory / "points").mkdir(parents=True, exist_ok=True)
+    try:
+        (directory / "points").mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise RunFolderError(
+            directory, f"cannot be made ({err.strerror}): choose another -o"
+        ) from None
     manufactured: dict[str, Path] = {}
     rows = []
     for number, point in enumerate(points, start=1):
