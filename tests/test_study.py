@@ -229,7 +229,8 @@ def test_copy_and_run_scenes_refuse_what_they_cannot_use(tmp_path):
     with pytest.raises(OutputExistsError, match="choose a new folder"):
         copy_manufactured(spec, unmanufactured, stranger, ["shear"])
     assert not (tmp_path / "copy").exists()
-    plain = tiny_spec(stitch=None)  # without stitch a built folder is the starting state
+    plain = tiny_spec(stitch=None, cell={"length_mm": 2.0, "width_mm": 2.0})  # no stitch:
+    # the built folder is the starting state
     (tmp_path / "built").mkdir()
     (tmp_path / "built" / "model.data").write_text("")
     copy_manufactured(plain, tmp_path / "built", tmp_path / "plain-copy", ["compaction"])
