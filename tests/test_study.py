@@ -191,14 +191,17 @@ def test_a_copied_manufactured_folder_carries_the_new_spec_and_not_the_scenes_ch
     tmp_path,
 ):
     """copy_manufactured: the copy's spec.resolved.toml and results.h5 root hold the spec it will
-    run (its summary describes what runs there), the source's checkpoints of the scenes to run
-    are left behind, the others (and the scenes' results) are copied."""
+    run (its summary describes what runs there), the source's checkpoints and results of the
+    scenes to run are left behind (a killed copy then resumes them instead of taking the
+    source's as its own), the others are copied."""
     old, new = tiny_spec(), tiny_spec().replace(compaction={"inertial_number": 0.0125})
     source = tmp_path / "source"
     source.mkdir()
     write_spec(source / "spec.resolved.toml", old)
     write_root(source / "results.h5", {"spec_toml": dumps_spec(old)})
     write_scene(source / "results.h5", "manufacture", {"steps": 10})
+    write_scene(source / "results.h5", "compaction", {"steps": 20})
+    write_scene(source / "results.h5", "shear", {"steps": 30})
     for name in ("compaction.checkpoint.json", "compaction.checkpoint.20.restart"):
         (source / name).write_text("")
     (source / "manufacture.checkpoint.json").write_text("")
@@ -209,6 +212,7 @@ def test_a_copied_manufactured_folder_carries_the_new_spec_and_not_the_scenes_ch
     results = read_results(tmp_path / "copy" / "results.h5")
     assert results["attrs"]["spec_toml"] == dumps_spec(new) != dumps_spec(old)
     assert results["manufacture"]["attrs"]["steps"] == 10
+    assert "compaction" not in results and results["shear"]["attrs"]["steps"] == 30
 
 
 def test_copy_and_run_scenes_refuse_what_they_cannot_use(tmp_path):

@@ -19,6 +19,7 @@ __all__ = [
     "ResultsFileError",
     "mark_complete",
     "read_results",
+    "remove_groups",
     "update_root",
     "write_root",
     "write_scene",
@@ -148,6 +149,15 @@ def _check_layout(path: Path, content: dict) -> None:
 def _kind_name(kind) -> str:
     first = kind[0] if isinstance(kind, tuple) else kind
     return {str: "text", int: "whole number", bool: "true or false"}[first]
+
+
+def remove_groups(path: str | os.PathLike, names: list[str]) -> None:
+    """Delete the groups ``names`` (those present) and mark the file incomplete."""
+    with h5py.File(path, "a") as fh:
+        for name in names:
+            if name in fh:
+                del fh[name]
+        fh.attrs["complete"] = False
 
 
 def update_root(path: str | os.PathLike, attrs: dict) -> None:

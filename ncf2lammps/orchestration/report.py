@@ -23,7 +23,7 @@ from ..scenes import SCENES, applicable_scenes
 from ..spec import SpecError, load_spec, spec_from_dict
 from .folder import RunFolderError, check_run_folder
 
-__all__ = ["collect_outputs", "write_report"]
+__all__ = ["collect_outputs", "trajectory_group", "write_report"]
 
 _log = logging.getLogger(__name__)
 _LAMMPS_VERSION = re.compile(r"^LAMMPS \((\d+) (\w{3})\w* (\d{4})")
@@ -89,6 +89,11 @@ def _format(value) -> str:
     return str(value)
 
 
+def trajectory_group(scene: str) -> str:
+    """The results.h5 group of a scene's local thickness and Vf (from its dump)."""
+    return f"{scene}_trajectory"
+
+
 def _trajectories(directory: Path, scenes) -> list[Path]:
     """Local thickness and Vf of each finished scene's dump (MDAnalysis): group
     ``<scene>_trajectory`` of results.h5 (grid mean, min and max per frame) and a figure (the
@@ -114,11 +119,11 @@ def _trajectories(directory: Path, scenes) -> list[Path]:
             datasets[f"{name}_min"] = np.nanmin(flat, axis=1)
             datasets[f"{name}_max"] = np.nanmax(flat, axis=1)
         attrs = {"grid": str(local.fvf.shape[1:]), "source": dump.name}
-        write_scene(directory / "results.h5", f"{scene}_trajectory", attrs, datasets)
+        write_scene(directory / "results.h5", trajectory_group(scene), attrs, datasets)
         fig = plot_local_thickness(
             local.step, thickness, local.fvf, f"{scene}: local thickness, Vf"
         )
-        written.append(directory / "figures" / f"{scene}_trajectory.png")
+        written.append(directory / "figures" / f"{trajectory_group(scene)}.png")
         fig.savefig(written[-1], dpi=110)
     return written
 

@@ -39,6 +39,7 @@ from ..io.results import (
     ResultsFileError,
     mark_complete,
     read_results,
+    remove_groups,
     update_root,
     write_root,
     write_scene,
@@ -49,7 +50,7 @@ from ..scenes import SCENES, Deck, applicable_scenes, render_deck
 from ..spec import FabricSpec, SpecError
 from .build import OutputExistsError, build, check_ranks
 from .folder import RunFolder, RunFolderError, check_run_folder
-from .report import write_report
+from .report import trajectory_group, write_report
 
 __all__ = ["checkpoints", "copy_manufactured", "mpiexec", "run", "run_scenes", "scenes_to_run"]
 
@@ -150,9 +151,10 @@ def copy_manufactured(
     spec: FabricSpec, source: str | os.PathLike, directory: str | os.PathLike, scenes: Sequence[str]
 ) -> None:
     """Copy the run folder ``source`` (manufactured) to the new ``directory`` to run ``scenes``
-    of ``spec`` there with :func:`run_scenes`: without the source's checkpoints of those
-    scenes, and with ``spec`` as the folder's spec (``spec.resolved.toml``, results.h5's root),
-    so that its summary describes what runs there."""
+    of ``spec`` there with :func:`run_scenes`: without the source's checkpoints and results of
+    those scenes (a copy killed before they finish is resumed, not taken as finished), and with
+    ``spec`` as the folder's spec (``spec.resolved.toml``, results.h5's root), so that its
+    summary describes what runs there. The results of the other scenes are kept."""
     directory = Path(directory)
     if spec.stitch is None and not (Path(source) / "model.data").is_file():
         raise RunFolderError(source, "is not a built run folder (no model.data)")
@@ -174,6 +176,7 @@ def copy_manufactured(
     checkpoint_files = shutil.ignore_patterns(*(Checkpoints(scene).files for scene in scenes))
     shutil.copytree(source, directory, ignore=checkpoint_files)
     write_spec(directory / "spec.resolved.toml", spec)
+    remove_groups(directory / "results.h5", [g for s in scenes for g in (s, trajectory_group(s))])
     update_root(
         directory / "results.h5",
         {"spec_toml": dumps_spec(spec), "created": datetime.now(UTC).isoformat(timespec="seconds")},
