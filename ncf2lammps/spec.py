@@ -746,11 +746,11 @@ def _check_scalar(path: str, meta, default, value: Any) -> Any:
             raise SpecError(path, value, "must be true or false")
         return value
     if isinstance(default, str):
+        choices = f"one of {', '.join(meta['choices'])}" if meta["choices"] else ""
         if not isinstance(value, str):
-            choices = f": one of {', '.join(meta['choices'])}" if meta["choices"] else ""
-            raise SpecError(path, value, f"must be a string{choices}")
-        if meta["choices"] and value not in meta["choices"]:
-            raise SpecError(path, value, f"must be one of {', '.join(meta['choices'])}")
+            raise SpecError(path, value, "must be a string" + (f": {choices}" if choices else ""))
+        if choices and value not in meta["choices"]:
+            raise SpecError(path, value, f"must be {choices}")
         if len(value) > 200:
             raise SpecError(path, value, "must be at most 200 characters")
         return value
@@ -875,25 +875,22 @@ def _check_consistency(spec: FabricSpec) -> None:
             "rests at 180 deg only: use 'harmonic' with mat.waviness_amplitude_um > 0",
         )
     manufacture = spec.manufacture
-    if (
-        manufacture.stitch_creep_target_per_ms is None
-        and manufacture.creep_window_us != ManufactureSpec().creep_window_us
-    ):
-        raise SpecError(
-            "manufacture.creep_window_us",
-            manufacture.creep_window_us,
-            "is only read with manufacture.stitch_creep_target_per_ms set",
+    if manufacture.stitch_creep_target_per_ms is None:
+        _only_read_with(
+            "manufacture",
+            manufacture,
+            ("creep_window_us",),
+            "manufacture.stitch_creep_target_per_ms set",
         )
     for table in ("compaction", "shear"):
         settings = getattr(spec, table)
         if settings.loading == "constant":
-            for key in ("max_rate_factor", "kinetic_stress_target"):
-                if getattr(settings, key) != getattr(type(settings)(), key):
-                    raise SpecError(
-                        f"{table}.{key}",
-                        getattr(settings, key),
-                        f"is only read with {table}.loading = 'adaptive'",
-                    )
+            _only_read_with(
+                table,
+                settings,
+                ("max_rate_factor", "kinetic_stress_target"),
+                f"{table}.loading = 'adaptive'",
+            )
     _check_bundle(spec)
     _check_random_bed(spec)
     _check_shear(spec)
@@ -924,6 +921,16 @@ _RUPTURE_KEYS = {
     "tenacity_cN_dtex": "force",
     "elongation_at_break": "strain",
 }
+
+
+def _only_read_with(table: str, settings, keys: tuple[str, ...], condition: str) -> None:
+    """SpecError on the first of ``keys`` that ``settings`` (the ``[table]`` dataclass) sets
+    away from its default: that key is only read with ``condition``."""
+    defaults = type(settings)()
+    for key in keys:
+        value = getattr(settings, key)
+        if value != getattr(defaults, key):
+            raise SpecError(f"{table}.{key}", value, f"is only read with {condition}")
 
 
 def _check_rupture(stitch: StitchSpec) -> None:
@@ -1009,12 +1016,12 @@ def _check_random_bed(spec: FabricSpec) -> None:
     (its push-off runs in the manufacture scene) and a Vf its random bed can reach."""
     mat = spec.mat
     if mat.arrangement == "rows":
-        defaults = MatSpec()
-        for key in ("diameter_spread", "pushoff_overlap_tolerance", "max_pushoff_steps"):
-            if getattr(mat, key) != getattr(defaults, key):
-                raise SpecError(
-                    f"mat.{key}", getattr(mat, key), "is only read with mat.arrangement = 'random'"
-                )
+        _only_read_with(
+            "mat",
+            mat,
+            ("diameter_spread", "pushoff_overlap_tolerance", "max_pushoff_steps"),
+            "mat.arrangement = 'random'",
+        )
         return
     if spec.stitch is None:
         raise SpecError(

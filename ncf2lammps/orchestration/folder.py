@@ -232,9 +232,12 @@ def _check_name_lengths(final: Path, ancestor: Path, renamed: bool) -> None:
 def _check_resumable(directory: Path) -> None:
     """The built files a resume reads (model.data, a readable spec.resolved.toml, decks/) and
     every scene's last checkpoint with the journal run it names."""
-    for name, kind in (("model.data", "file"), ("spec.resolved.toml", "file"), ("decks", "")):
-        path = directory / name
-        if not (path.is_file() if kind == "file" else path.is_dir()):
+    for name, present in (
+        ("model.data", Path.is_file),
+        ("spec.resolved.toml", Path.is_file),
+        ("decks", Path.is_dir),
+    ):
+        if not present(directory / name):
             raise RunFolderError(
                 directory, f"has no {name}, so it cannot be resumed: {_restart(directory)}"
             )

@@ -120,8 +120,7 @@ def run_scenes(
     run = spec if isinstance(spec, Prepared) else prepare(spec)
     _check_scene_list(scenes, applicable_scenes(run.spec))
     directory = Path(directory).resolve()
-    if not (directory / "model.data").is_file():
-        raise RunFolderError(directory, "is not a built run folder (no model.data)")
+    _require_built(directory)
     if (folder_atoms := _count_atoms(directory)) != run.model.n_atoms:
         raise SpecError(
             "<spec>", "...", f"describes {run.model.n_atoms} beads, the folder {folder_atoms}"
@@ -156,9 +155,9 @@ def copy_manufactured(
     ``spec`` as the folder's spec (``spec.resolved.toml``, results.h5's root), so that its
     summary describes what runs there. The results of the other scenes are kept."""
     directory = Path(directory)
-    if spec.stitch is None and not (Path(source) / "model.data").is_file():
-        raise RunFolderError(source, "is not a built run folder (no model.data)")
-    if spec.stitch is not None:
+    if spec.stitch is None:
+        _require_built(Path(source))
+    else:
         try:
             manufactured = read_results(Path(source) / "results.h5").get("manufacture", {})
         except ResultsFileError as err:
@@ -248,6 +247,12 @@ def driver_identity() -> dict[str, str]:
     worker ends itself when the process that started the run is gone (the kernel's parent-death
     signal reaches only the direct child, ``mpiexec``, not the ranks below it)."""
     return {"NCF2LAMMPS_DRIVER": f"{os.getpid()}@{socket.gethostname()}"}
+
+
+def _require_built(directory: Path) -> None:
+    """RunFolderError unless ``directory`` holds a built model (model.data)."""
+    if not (directory / "model.data").is_file():
+        raise RunFolderError(directory, "is not a built run folder (no model.data)")
 
 
 def _count_atoms(directory: Path) -> int:
