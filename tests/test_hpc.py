@@ -19,6 +19,7 @@ scatters by ~7 % between manufactured cells that differ only by round-off, the q
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -312,3 +313,21 @@ def test_a_checkpoint_interval_rounded_up_to_the_deck_period_is_announced(tmp_pa
     message = caplog.records[0].getMessage()
     assert "manufacture: checkpoints every 97000 steps, not the 20000 asked" in message
     assert "output.checkpoint_every_steps" in message
+
+
+def test_a_checkpoint_record_whose_restart_is_gone_is_announced(tmp_path, caplog):
+    """A resume whose checkpoint record names a deleted restart file cannot continue from it:
+    the scene starts again from its beginning, and one warning names the record."""
+    deck = Deck("shear", "", 1_000)
+    record = tmp_path / "shear.checkpoint.json"
+    restart = {"step": 9, "restart": "shear.checkpoint.9.restart", "line": 5}
+    record.write_text(json.dumps({**restart, "stage": "shear", "internal": {}}))
+    with caplog.at_level("WARNING"):
+        assert not checkpoints(tmp_path, deck, 1_000, resume=True).resume
+    assert len(caplog.records) == 1
+    assert f"{record} names a restart file that is gone" in caplog.records[0].getMessage()
+    (tmp_path / "shear.checkpoint.9.restart").write_text("")
+    with caplog.at_level("WARNING"):
+        assert checkpoints(tmp_path, deck, 1_000, resume=True).resume
+        assert not checkpoints(tmp_path, deck, 1_000, resume=False).resume
+    assert len(caplog.records) == 1

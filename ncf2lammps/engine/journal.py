@@ -119,11 +119,15 @@ class Checkpoints:
         """The last checkpoint's record (step, restart file, run line, internal variables);
         None without one or when its restart file is gone. Raises :class:`CheckpointError`
         for a damaged record."""
-        path = Path(directory) / f"{self.name}.checkpoint.json"
+        path = self.record(directory)
         if not path.is_file():
             return None
         state = _read_record(path)
         return state if (Path(directory) / state["restart"]).is_file() else None
+
+    def record(self, directory: str | os.PathLike = ".") -> Path:
+        """Path of the last checkpoint's record (``<name>.checkpoint.json``), present or not."""
+        return Path(directory) / f"{self.name}.checkpoint.json"
 
     def check(self, directory: str | os.PathLike = ".") -> None:
         """Raise :class:`CheckpointError` unless a resume can use the last checkpoint (if any):
@@ -165,7 +169,7 @@ class Journal:
         self.engine = engine
         self.writer = engine.rank == 0
         self.path = Path(f"{self.name}.journal")
-        self.state_path = Path(f"{self.name}.checkpoint.json")
+        self.state_path = checkpoints.record()
         self.internal: list[str] = []
         self.previous: str | None = None
         self.fh = None

@@ -84,8 +84,16 @@ def _check_scene_list(scenes: Sequence[str] | None, available: Sequence[str]) ->
 def checkpoints(directory: Path, deck: Deck, every: int, resume: bool) -> Checkpoints:
     """Checkpointing of ``deck``'s scene in ``directory`` every ``every`` steps (rounded to the
     deck's period, with a warning when that more than doubles it); resumes only if a checkpoint
-    exists."""
-    found = resume and Checkpoints(deck.name).state(directory) is not None
+    exists (with a warning when its record names a restart file that is gone)."""
+    last = Checkpoints(deck.name)
+    found = resume and last.state(directory) is not None
+    if resume and not found and last.record(directory).is_file():
+        _log.warning(
+            "%s: the checkpoint record %s names a restart file that is gone: the scene starts"
+            " again from its beginning",
+            deck.name,
+            last.record(directory),
+        )
     interval = deck.checkpoint_interval(every)
     if interval > 2 * every:
         _log.warning(
