@@ -894,16 +894,16 @@ def _check_consistency(spec: FabricSpec) -> None:
     _check_bundle(spec)
     _check_random_bed(spec)
     _check_shear(spec)
-    internal = spec.discretisation.chain_internal_fvf
+    internal, source = spec.discretisation.chain_internal_fvf, "discretisation.chain_internal_fvf"
     if spec.contact.normal_model == "bundle":
-        internal = spec.contact.bundle_max_fvf
+        internal, source = spec.contact.bundle_max_fvf, "contact.bundle_max_fvf"
     densest = internal * HEXAGONAL_PACKING
     if spec.compaction.final_fvf > densest:
         raise SpecError(
             "compaction.final_fvf",
             spec.compaction.final_fvf,
-            f"out of range: chains of internal Vf {internal:g}"
-            f" reach at most {densest:.3f} (hexagonal packing); allowed [0.05, {densest:.3f}]",
+            f"out of range: chains of internal Vf {internal:g} ({source}) reach at most"
+            f" {densest:.3f} (hexagonal packing); allowed [0.05, {densest:.3f}]",
         )
     length, width = spec.cell_mm
     d_mm = spec.discretisation.chain_diameter_um * 1e-3

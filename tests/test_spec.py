@@ -65,7 +65,7 @@ def test_cases_load_and_resolve_round_trip(case, tmp_path):
         (  # fibre Vf of chains of internal Vf 0.6 is at most 0.6 pi / (2 sqrt 3) = 0.544
             {"discretisation": {"chain_diameter_um": 250.0, "chain_internal_fvf": 0.6}},
             "compaction.final_fvf",
-            "allowed [0.05, 0.544]",
+            "internal Vf 0.6 (discretisation.chain_internal_fvf) reach at most 0.544",
         ),
     ],
 )
