@@ -935,19 +935,14 @@ def _only_read_with(table: str, settings, keys: tuple[str, ...], condition: str)
 
 def _check_rupture(stitch: StitchSpec) -> None:
     """The rupture keys are read only with ``stitch.rupture = true``, each under its criterion."""
-    defaults = StitchSpec()
     for key, criterion in _RUPTURE_KEYS.items():
-        value = getattr(stitch, key)
-        if value == getattr(defaults, key):
-            continue
         if not stitch.rupture:
-            raise SpecError(f"stitch.{key}", value, "is only read with stitch.rupture = true")
-        if criterion is not None and stitch.rupture_criterion != criterion:
-            raise SpecError(
-                f"stitch.{key}",
-                value,
-                f"is only read with stitch.rupture_criterion = '{criterion}'",
-            )
+            condition = "stitch.rupture = true"
+        elif criterion not in (None, stitch.rupture_criterion):
+            condition = f"stitch.rupture_criterion = '{criterion}'"
+        else:
+            continue
+        _only_read_with("stitch", stitch, (key,), condition)
 
 
 def _check_bundle(spec: FabricSpec) -> None:
